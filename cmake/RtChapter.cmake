@@ -1,0 +1,53 @@
+# rt_add_chapter(): one call makes a chapter's three targets.
+#
+#   rt_add_chapter(NUMBER 01 SLUG kernel_launch
+#                  LESSON  first_kernel.cu ...   # -> library rt_ch01, alias rt::ch01
+#                  MAIN    main.cpp              # -> executable ch01_kernel_launch
+#                  DEPENDS rt::common            # the previous chapter's library
+#                  TESTS   test_ch01.cpp ...)    # files in tests/01_kernel_launch -> test_ch01
+#
+# Build one chapter alone with: cmake --build <dir> --target ch01_kernel_launch
+function(rt_add_chapter)
+  cmake_parse_arguments(ARG "" "NUMBER;SLUG" "LESSON;MAIN;DEPENDS;TESTS" ${ARGN})
+  set(lib rt_ch${ARG_NUMBER})
+  set(exe ch${ARG_NUMBER}_${ARG_SLUG})
+
+  add_library(${lib} STATIC ${ARG_LESSON})
+  add_library(rt::ch${ARG_NUMBER} ALIAS ${lib})
+  target_include_directories(${lib} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+  target_link_libraries(${lib} PUBLIC ${ARG_DEPENDS} PRIVATE rt::options)
+  set_target_properties(${lib} PROPERTIES CUDA_SEPARABLE_COMPILATION OFF)
+
+  add_executable(${exe} ${ARG_MAIN})
+  target_link_libraries(${exe} PRIVATE ${lib} rt::options)
+  set_target_properties(${exe} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
+
+  if(RT_BUILD_TESTS AND ARG_TESTS)
+    set(test_dir ${PROJECT_SOURCE_DIR}/tests/${ARG_NUMBER}_${ARG_SLUG})
+    list(TRANSFORM ARG_TESTS PREPEND ${test_dir}/)
+    rt_add_test_executable(test_ch${ARG_NUMBER} LABEL ch${ARG_NUMBER}
+                           SOURCES ${ARG_TESTS} LIBRARIES ${lib})
+  endif()
+endfunction()
+
+# rt_add_test_executable(): a Catch2 test executable whose test cases become CTest tests.
+# Catch2 tags become CTest labels: [gpu] needs a CUDA device, [slow] takes long; every test
+# also carries the executable's LABEL (ch01, common, ...), so `ctest -L ch01` runs one chapter.
+function(rt_add_test_executable name)
+  cmake_parse_arguments(ARG "" "LABEL" "SOURCES;LIBRARIES" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE rt_test_support ${ARG_LIBRARIES} rt::options)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
+  catch_discover_tests(${name} TEST_PREFIX "${ARG_LABEL}:" TEST_LIST ${name}_TESTS
+                       PROPERTIES TIMEOUT 600 LABELS ${ARG_LABEL})
+  # Catch2's discovery cannot turn tags into labels, so CTest reads a second file after
+  # Catch's own: it asks the executable which tests carry [gpu] and [slow] and labels them.
+  set(label_file ${CMAKE_CURRENT_BINARY_DIR}/${name}_labels.cmake)
+  file(GENERATE OUTPUT ${label_file} CONTENT
+"set(RT_TEST_EXE \"$<TARGET_FILE:${name}>\")
+set(RT_TEST_PREFIX \"${ARG_LABEL}:\")
+set(RT_TEST_LABEL \"${ARG_LABEL}\")
+include(\"${PROJECT_SOURCE_DIR}/cmake/RtCatchLabels.cmake\")
+")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${label_file})
+endfunction()

@@ -1,0 +1,35 @@
+// Command-line plumbing shared by every chapter (chapter 01): the common options, their
+// validation, and run_main(), which turns every error into one clear line and an exit code.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "rt/backend.h"
+#include "rt/launch.h"
+
+namespace rt {
+
+inline constexpr int k_max_image_side = 16384; // larger images are refused as absurd
+
+struct CommonOptions {
+  int width = 1920;   // image width in pixels
+  int height = 1080;  // image height in pixels
+  std::string output; // image file to write (.png or .pfm); empty: none
+  Backend backend = Backend::automatic;
+  int frames = 0;   // timed runs per variant; 0: the protocol's default
+  std::string json; // also write the report as JSON here; empty: don't
+
+  Extent extent() const { return {width, height}; }
+};
+
+// Adds --width, --height, --output, --backend, --frames and --json to `app`.
+void add_common_options(CLI::App &app, CommonOptions &options);
+
+// Parses the command line and runs `body`. Prints "<program>: error: <message>" on any error
+// and returns the exit code: 0 success, 1 runtime error, 2 bad usage.
+int run_main(CLI::App &app, int argc, char **argv, const std::function<int()> &body);
+
+} // namespace rt

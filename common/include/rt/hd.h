@@ -1,0 +1,18 @@
+// RT_HD marks code that runs on both backends: __host__ __device__ under nvcc, plain C++
+// otherwise. Introduced in chapter 01; every per-pixel and per-ray function carries it.
+#pragma once
+
+#if defined(__CUDACC__)
+#define RT_HD __host__ __device__
+#define RT_DEVICE_CODE_POSSIBLE 1
+#else
+#define RT_HD
+#define RT_DEVICE_CODE_POSSIBLE 0
+#endif
+
+// True while nvcc compiles the device side of a translation unit.
+#if defined(__CUDA_ARCH__)
+#define RT_ON_DEVICE 1
+#else
+#define RT_ON_DEVICE 0
+#endif

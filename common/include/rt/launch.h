@@ -1,0 +1,88 @@
+// The launch helper (end of chapter 01): runs one RT_HD per-pixel function `fn(x, y)` over a
+// width x height image, either as a CUDA kernel on a 2D grid of 2D blocks or on all CPU cores.
+// Every later chapter renders through it. GPU launches need a .cu translation unit.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+#include <vector>
+
+#include "rt/backend.h"
+#include "rt/error.h"
+#include "rt/hd.h"
+
+#if RT_DEVICE_CODE_POSSIBLE
+#include <cuda_runtime.h>
+
+#include "rt/cuda_check.h"
+#endif
+
+namespace rt {
+
+struct Extent {
+  int width = 0;  // pixels per row
+  int height = 0; // rows
+  long long pixel_count() const { return static_cast<long long>(width) * height; }
+};
+
+struct BlockShape {
+  int x = 16; // threads per block along a row
+  int y = 16; // threads per block down a column
+};
+
+// Blocks needed to cover `n` items with blocks of `block` items: the grid is rounded up, so
+// the last block may hang over the edge of the image.
+constexpr int blocks_to_cover(int n, int block) { return (n + block - 1) / block; }
+
+#if RT_DEVICE_CODE_POSSIBLE
+// [listing:launch_kernel]
+template <class PixelFn>
+__global__ void for_each_pixel_kernel(int width, int height, PixelFn fn) {
+  const int x = blockIdx.x * blockDim.x + threadIdx.x;
+  const int y = blockIdx.y * blockDim.y + threadIdx.y;
+  if (x < width && y < height) fn(x, y); // the rounded-up grid hangs over both edges
+}
+
+template <class PixelFn>
+void for_each_pixel_gpu(Extent extent, PixelFn fn, BlockShape block = {},
+                        cudaStream_t stream = 0) {
+  if (extent.width <= 0 || extent.height <= 0) return;
+  const dim3 threads(block.x, block.y);
+  const dim3 grid(blocks_to_cover(extent.width, block.x),
+                  blocks_to_cover(extent.height, block.y));
+  for_each_pixel_kernel<<<grid, threads, 0, stream>>>(extent.width, extent.height, fn);
+  RT_CUDA_CHECK_LAUNCH("for_each_pixel_kernel");
+}
+// [/listing:launch_kernel]
+#endif
+
+// [listing:launch_cpu]
+template <class PixelFn> void for_each_pixel_cpu(Extent extent, PixelFn fn) {
+  if (extent.width <= 0 || extent.height <= 0) return;
+  std::atomic<int> next_row{0}; // rows are handed out one at a time: cheap load balancing
+  auto worker = [&] {
+    for (int y = next_row++; y < extent.height; y = next_row++)
+      for (int x = 0; x < extent.width; ++x) fn(x, y);
+  };
+  const int thread_count = std::min(cpu_thread_count(), extent.height);
+  std::vector<std::jthread> threads;
+  for (int t = 1; t < thread_count; ++t) threads.emplace_back(worker);
+  worker(); // the calling thread works too
+}
+// [/listing:launch_cpu]
+
+// Runs fn on the resolved backend (Backend::gpu or Backend::cpu).
+template <class PixelFn>
+void for_each_pixel(Backend backend, Extent extent, PixelFn fn, BlockShape block = {}) {
+  if (backend == Backend::cpu) return for_each_pixel_cpu(extent, fn);
+  if (backend != Backend::gpu) throw Error("for_each_pixel: resolve the backend first");
+#if RT_DEVICE_CODE_POSSIBLE
+  for_each_pixel_gpu(extent, fn, block);
+#else
+  (void)block;
+  throw Error("for_each_pixel: GPU launch from a file not compiled by nvcc");
+#endif
+}
+
+} // namespace rt

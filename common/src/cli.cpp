@@ -1,0 +1,63 @@
+// Command-line plumbing (chapter 01): see rt/cli.h.
+#include "rt/cli.h"
+
+#include <iostream>
+#include <new>
+
+#include "rt/cuda_check.h"
+#include "rt/error.h"
+#include "rt/image.h"
+
+namespace rt {
+
+void add_common_options(CLI::App &app, CommonOptions &options) {
+  const auto side = CLI::Range(1, k_max_image_side);
+  app.add_option("--width", options.width, "Image width in pixels")
+      ->check(side)
+      ->capture_default_str();
+  app.add_option("--height", options.height, "Image height in pixels")
+      ->check(side)
+      ->capture_default_str();
+  app.add_option("-o,--output", options.output, "Image file to write (.png or .pfm)")
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--backend",
+         [&options](const std::string &text) { options.backend = parse_backend(text); },
+         "Where to run: auto (GPU if usable, else CPU), gpu or cpu")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
+      ->default_str("auto");
+  app.add_option("--frames", options.frames,
+                 "Timed runs per variant (default: 50 on the GPU, 5 on the CPU)")
+      ->check(CLI::Range(1, 100000));
+  app.add_option("--json", options.json, "Also write the report as JSON to this file");
+}
+
+int run_main(CLI::App &app, int argc, char **argv, const std::function<int()> &body) {
+  const std::string program = app.get_name().empty() ? "rt" : app.get_name();
+  auto fail = [&](const std::string &message, int code) {
+    std::cout.flush();
+    std::cerr << program << ": error: " << message << "\n";
+    return code;
+  };
+  try {
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError &e) {
+      if (e.get_exit_code() == 0) return app.exit(e); // --help: print it, exit 0
+      return fail(e.what(), 2);
+    }
+    return body();
+  } catch (const UsageError &e) {
+    return fail(e.what(), 2);
+  } catch (const CudaError &e) {
+    return fail(std::string("CUDA: ") + e.what(), 1);
+  } catch (const Error &e) {
+    return fail(e.what(), 1);
+  } catch (const std::bad_alloc &) {
+    return fail("out of host memory", 1);
+  } catch (const std::exception &e) {
+    return fail(std::string("unexpected: ") + e.what(), 1);
+  }
+}
+
+} // namespace rt

@@ -1,0 +1,37 @@
+// The launch helper's CPU backend: each pixel visited exactly once, any size, any thread count.
+#include <vector>
+
+#include "rt_catch.h"
+
+#include "rt/atomic.h"
+#include "rt/launch.h"
+
+using namespace rt;
+
+TEST_CASE("CPU launch visits every pixel exactly once", "[common]") {
+  for (const Extent e : {Extent{1, 1}, Extent{3, 1000}, Extent{1000, 3}, Extent{257, 129}}) {
+    std::vector<unsigned> counts(static_cast<std::size_t>(e.pixel_count()), 0u);
+    unsigned *c = counts.data();
+    for_each_pixel(Backend::cpu, e,
+                   [=](int x, int y) { atomic_increment(c + y * e.width + x); });
+    for (unsigned n : counts) REQUIRE(n == 1u);
+  }
+}
+
+TEST_CASE("empty extents launch nothing", "[common]") {
+  int calls = 0;
+  for_each_pixel_cpu(Extent{0, 10}, [&](int, int) { ++calls; });
+  for_each_pixel_cpu(Extent{10, 0}, [&](int, int) { ++calls; });
+  CHECK(calls == 0);
+}
+
+TEST_CASE("an unresolved backend is refused", "[common]") {
+  CHECK_THROWS_AS(for_each_pixel(Backend::automatic, Extent{1, 1}, [](int, int) {}), Error);
+}
+
+TEST_CASE("grid rounding", "[common]") {
+  CHECK(blocks_to_cover(1, 16) == 1);
+  CHECK(blocks_to_cover(16, 16) == 1);
+  CHECK(blocks_to_cover(17, 16) == 2);
+  CHECK(blocks_to_cover(1080, 16) == 68);
+}
