@@ -2,13 +2,12 @@
 // with the few names that differ between them made the same.
 #pragma once
 
-#if __has_include(<catch2/catch_all.hpp>)
+// RT_CATCH_V3 comes from CMake (tests/support/CMakeLists.txt), which knows the version found.
+#if RT_CATCH_V3
 #include <catch2/catch_all.hpp>
 using Catch::Approx;
-#define RT_CATCH_V3 1
 #else
 #include <catch2/catch.hpp>
-#define RT_CATCH_V3 0
 #endif
 
 #include <string>
