@@ -8,7 +8,7 @@
 namespace rt::ch01 {
 
 // [listing:first_kernel]
-__global__ void first_kernel(Rgba8 *image, int width, int height) {
+__global__ void first_kernel(Rgba8* image, int width, int height) {
   // Each thread finds its pixel from where its block sits in the grid and where it sits in
   // its block.
   const int x = blockIdx.x * blockDim.x + threadIdx.x;
@@ -19,7 +19,7 @@ __global__ void first_kernel(Rgba8 *image, int width, int height) {
   image[y * width + x] = block_pattern(x, y, BlockShape{int(blockDim.x), int(blockDim.y)});
 }
 
-void launch_first_kernel(Rgba8 *d_image, Extent image, BlockShape block) {
+void launch_first_kernel(Rgba8* d_image, Extent image, BlockShape block) {
   const dim3 threads(block.x, block.y);                    // threads per block
   const dim3 grid(blocks_to_cover(image.width, block.x),   // blocks per row
                   blocks_to_cover(image.height, block.y)); // blocks per column
@@ -43,13 +43,13 @@ static void launch_flat_offset(Extent image, BlockShape block, Sink write) {
   RT_CUDA_CHECK_LAUNCH("flat_offset_kernel");
 }
 
-void launch_flat_offset_kernel(Rgba8 *d_image_with_guard, Extent image, BlockShape block) {
+void launch_flat_offset_kernel(Rgba8* d_image_with_guard, Extent image, BlockShape block) {
   launch_flat_offset(image, block,
                      [=] __device__(int offset, Rgba8 c) { d_image_with_guard[offset] = c; });
 }
 
 void run_flat_offset_cpu(std::span<Rgba8> image_with_guard, Extent image, BlockShape block) {
-  Rgba8 *out = image_with_guard.data();
+  Rgba8* out = image_with_guard.data();
   emulate_grid(image, block, [&](ThreadIndex t) {
     flat_offset_thread(t, block, image, [&](int offset, Rgba8 c) { out[offset] = c; });
   });
@@ -63,7 +63,7 @@ std::vector<unsigned> count_flat_offset_writes(Backend backend, Extent image,
                                                BlockShape block) {
   if (backend == Backend::cpu) {
     std::vector<unsigned> counts(with_guard(image), 0u);
-    unsigned *c = counts.data();
+    unsigned* c = counts.data();
     emulate_grid(image, block, [&](ThreadIndex t) {
       flat_offset_thread(t, block, image, [&](int offset, Rgba8) { ++c[offset]; });
     });
@@ -71,14 +71,14 @@ std::vector<unsigned> count_flat_offset_writes(Backend backend, Extent image,
   }
   DeviceBuffer<unsigned> d_counts(with_guard(image));
   d_counts.fill_bytes(0);
-  unsigned *c = d_counts.data();
+  unsigned* c = d_counts.data();
   launch_flat_offset(image, block,
                      [=] __device__(int offset, Rgba8) { atomicAdd(c + offset, 1u); });
   return d_counts.to_host();
 }
 
 // [listing:render_with_helper]
-void render_block_pattern(Backend backend, Rgba8 *pixels, Extent image, BlockShape block) {
+void render_block_pattern(Backend backend, Rgba8* pixels, Extent image, BlockShape block) {
   const int width = image.width;
   for_each_pixel(
       backend, image,
@@ -86,7 +86,7 @@ void render_block_pattern(Backend backend, Rgba8 *pixels, Extent image, BlockSha
 }
 // [/listing:render_with_helper]
 
-static void count_helper_writes_into(unsigned *counts, Backend backend, Extent image,
+static void count_helper_writes_into(unsigned* counts, Backend backend, Extent image,
                                      BlockShape block) {
   const int width = image.width;
   for_each_pixel(

@@ -43,18 +43,18 @@ template <class ThreadFn> void emulate_grid(Extent image, BlockShape block, Thre
 }
 
 // 1. The hand-written kernel with the right check; d_image holds width*height pixels.
-void launch_first_kernel(Rgba8 *d_image, Extent image, BlockShape block);
+void launch_first_kernel(Rgba8* d_image, Extent image, BlockShape block);
 
 // 2. The flat offset check. The buffers hold width*height + 1 elements: the last one is a
 // guard that catches the write past the end instead of corrupting memory.
-void launch_flat_offset_kernel(Rgba8 *d_image_with_guard, Extent image, BlockShape block);
+void launch_flat_offset_kernel(Rgba8* d_image_with_guard, Extent image, BlockShape block);
 void run_flat_offset_cpu(std::span<Rgba8> image_with_guard, Extent image, BlockShape block);
 // Write counts per element (last = guard) under the flat check, on either backend.
 std::vector<unsigned> count_flat_offset_writes(Backend backend, Extent image, BlockShape block);
 
 // 3. The launch helper: block_pattern over the image on the resolved backend. `pixels` is
 // device memory for Backend::gpu and host memory for Backend::cpu.
-void render_block_pattern(Backend backend, Rgba8 *pixels, Extent image, BlockShape block);
+void render_block_pattern(Backend backend, Rgba8* pixels, Extent image, BlockShape block);
 // Write counts per pixel plus one guard element under the launch helper.
 std::vector<unsigned> count_helper_writes(Backend backend, Extent image, BlockShape block);
 

@@ -1,6 +1,7 @@
 // Chapter 01: the first kernel launch. Renders the block pattern with the hand-written kernel,
 // with the launch helper on both backends, and with the flat offset check that the first
 // version of this program used; then prints what each costs and what each gets wrong.
+#include <algorithm>
 #include <iostream>
 #include <sstream>
 
@@ -16,7 +17,7 @@ namespace {
 using namespace rt;
 using namespace rt::ch01;
 
-BlockShape parse_block(const std::string &text) {
+BlockShape parse_block(const std::string& text) {
   int x = 0, y = 0;
   char by = 0;
   std::istringstream in(text);
@@ -25,20 +26,20 @@ BlockShape parse_block(const std::string &text) {
   return {x, y};
 }
 
-std::string audit_summary(const WriteAudit &a) {
+std::string audit_summary(const WriteAudit& a) {
   return group_digits(a.never_written) + " px never written, " +
          group_digits(a.written_repeatedly) + " px written twice or more, " +
          group_digits(a.past_the_end) + " write(s) past the end";
 }
 
-std::vector<std::pair<std::string, double>> audit_metrics(const WriteAudit &a) {
+std::vector<std::pair<std::string, double>> audit_metrics(const WriteAudit& a) {
   return {{"never_written", double(a.never_written)},
           {"written_repeatedly", double(a.written_repeatedly)},
           {"writes_past_the_end", double(a.past_the_end)}};
 }
 
-ReportRow compare_row(std::string variant, Backend backend, const Timing &timing, Extent extent,
-                      const Image &image, const Image &reference) {
+ReportRow compare_row(std::string variant, Backend backend, const Timing& timing, Extent extent,
+                      const Image& image, const Image& reference) {
   const auto differing = count_differing_pixels(image.pixels, reference.pixels);
   return {std::move(variant),
           to_string(backend),
@@ -48,7 +49,7 @@ ReportRow compare_row(std::string variant, Backend backend, const Timing &timing
           {{"pixels_differing", double(differing)}}};
 }
 
-int run(const CommonOptions &options, BlockShape block) {
+int run(const CommonOptions& options, BlockShape block, const std::string& flat_output) {
   const Backend backend = resolve_backend(options.backend, std::cout);
   const Extent extent = options.extent();
   const double mpix = extent.pixel_count() / 1e6;
@@ -120,6 +121,19 @@ int run(const CommonOptions &options, BlockShape block) {
     write_image(options.output, shown);
     std::cout << "wrote " << options.output << "\n";
   }
+  if (!flat_output.empty()) {
+    // Where the flat offset check went wrong: wrong pixels in white, the rest dimmed.
+    Image damage(extent.width, extent.height);
+    for (std::size_t i = 0; i < damage.pixels.size(); ++i) {
+      const Rgba8 p = reference.pixels[i];
+      damage.pixels[i] =
+          flat_image[i] == p
+              ? Rgba8{std::uint8_t(p.r / 3), std::uint8_t(p.g / 3), std::uint8_t(p.b / 3), 255}
+              : Rgba8{255, 255, 255, 255};
+    }
+    write_image(flat_output, damage);
+    std::cout << "wrote " << flat_output << "\n";
+  }
   report.print(std::cout);
   if (!options.json.empty()) report.write_json(options.json);
   if (!backends_agree) throw Error("the GPU image differs from the CPU reference");
@@ -128,7 +142,7 @@ int run(const CommonOptions &options, BlockShape block) {
 
 } // namespace
 
-int main(int argc, char **argv) {
+int main(int argc, char** argv) {
   CLI::App app{"Chapter 01: the first kernel launch, and the launch helper",
                "ch01_kernel_launch"};
   CommonOptions options;
@@ -136,8 +150,12 @@ int main(int argc, char **argv) {
   add_common_options(app, options);
   std::string block_text = "16x16";
   app.add_option("--block", block_text, "Threads per block, WxH")->capture_default_str();
+  std::string flat_output;
+  app.add_option("--flat-output", flat_output,
+                 "Also write where the flat offset check draws wrong pixels (white)");
   return run_main(app, argc, argv, [&] {
     if (!options.output.empty()) check_image_path(options.output);
-    return run(options, parse_block(block_text));
+    if (!flat_output.empty()) check_image_path(flat_output);
+    return run(options, parse_block(block_text), flat_output);
   });
 }

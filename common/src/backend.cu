@@ -58,7 +58,7 @@ GpuInfo probe() {
 
 } // namespace
 
-const char *to_string(Backend backend) {
+const char* to_string(Backend backend) {
   switch (backend) {
   case Backend::automatic:
     return "auto";
@@ -77,14 +77,14 @@ Backend parse_backend(std::string_view text) {
   throw UsageError("unknown backend '" + std::string(text) + "' (expected auto, gpu or cpu)");
 }
 
-const GpuInfo &gpu_info() {
+const GpuInfo& gpu_info() {
   static const GpuInfo info = probe();
   return info;
 }
 
-Backend resolve_backend(Backend requested, std::ostream &notice) {
+Backend resolve_backend(Backend requested, std::ostream& notice) {
   if (requested == Backend::cpu) return Backend::cpu;
-  const GpuInfo &gpu = gpu_info();
+  const GpuInfo& gpu = gpu_info();
   if (gpu.usable) return Backend::gpu;
   if (requested == Backend::gpu)
     throw NoGpuError("--backend gpu: no usable CUDA device (" + gpu.why_unusable + ")");
@@ -95,7 +95,7 @@ Backend resolve_backend(Backend requested, std::ostream &notice) {
 
 int cpu_thread_count() {
   static const int count = [] {
-    if (const char *env = std::getenv("RT_CPU_THREADS")) {
+    if (const char* env = std::getenv("RT_CPU_THREADS")) {
       const int n = std::atoi(env);
       if (n > 0) return std::min(n, 1024);
     }

@@ -10,7 +10,7 @@
 
 namespace rt {
 
-void add_common_options(CLI::App &app, CommonOptions &options) {
+void add_common_options(CLI::App& app, CommonOptions& options) {
   const auto side = CLI::Range(1, k_max_image_side);
   app.add_option("--width", options.width, "Image width in pixels")
       ->check(side)
@@ -22,7 +22,7 @@ void add_common_options(CLI::App &app, CommonOptions &options) {
       ->capture_default_str();
   app.add_option_function<std::string>(
          "--backend",
-         [&options](const std::string &text) { options.backend = parse_backend(text); },
+         [&options](const std::string& text) { options.backend = parse_backend(text); },
          "Where to run: auto (GPU if usable, else CPU), gpu or cpu")
       ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
       ->default_str("auto");
@@ -32,9 +32,9 @@ void add_common_options(CLI::App &app, CommonOptions &options) {
   app.add_option("--json", options.json, "Also write the report as JSON to this file");
 }
 
-int run_main(CLI::App &app, int argc, char **argv, const std::function<int()> &body) {
+int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   const std::string program = app.get_name().empty() ? "rt" : app.get_name();
-  auto fail = [&](const std::string &message, int code) {
+  auto fail = [&](const std::string& message, int code) {
     std::cout.flush();
     std::cerr << program << ": error: " << message << "\n";
     return code;
@@ -42,20 +42,20 @@ int run_main(CLI::App &app, int argc, char **argv, const std::function<int()> &b
   try {
     try {
       app.parse(argc, argv);
-    } catch (const CLI::ParseError &e) {
+    } catch (const CLI::ParseError& e) {
       if (e.get_exit_code() == 0) return app.exit(e); // --help: print it, exit 0
       return fail(e.what(), 2);
     }
     return body();
-  } catch (const UsageError &e) {
+  } catch (const UsageError& e) {
     return fail(e.what(), 2);
-  } catch (const CudaError &e) {
+  } catch (const CudaError& e) {
     return fail(std::string("CUDA: ") + e.what(), 1);
-  } catch (const Error &e) {
+  } catch (const Error& e) {
     return fail(e.what(), 1);
-  } catch (const std::bad_alloc &) {
+  } catch (const std::bad_alloc&) {
     return fail("out of host memory", 1);
-  } catch (const std::exception &e) {
+  } catch (const std::exception& e) {
     return fail(std::string("unexpected: ") + e.what(), 1);
   }
 }

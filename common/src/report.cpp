@@ -54,21 +54,21 @@ std::string group_digits(long long value) {
   return grouped;
 }
 
-void Report::print(std::ostream &out) const {
+void Report::print(std::ostream& out) const {
   out << "\n" << title_ << "\n";
-  for (const auto &[key, value] : context_) out << "  " << key << ": " << value << "\n";
+  for (const auto& [key, value] : context_) out << "  " << key << ": " << value << "\n";
   const std::vector<std::string> header = {"variant", "backend", "ms/frame", unit_,
                                            "error vs " + reference_};
   std::vector<std::vector<std::string>> cells;
-  for (const ReportRow &row : rows_)
+  for (const ReportRow& row : rows_)
     cells.push_back({row.variant, row.backend, figure(row.ms_per_frame), figure(row.throughput),
                      row.error});
   std::vector<std::size_t> width(header.size());
   for (std::size_t c = 0; c < header.size(); ++c) {
     width[c] = header[c].size();
-    for (const auto &line : cells) width[c] = std::max(width[c], line[c].size());
+    for (const auto& line : cells) width[c] = std::max(width[c], line[c].size());
   }
-  auto print_line = [&](const std::vector<std::string> &line) {
+  auto print_line = [&](const std::vector<std::string>& line) {
     for (std::size_t c = 0; c < line.size(); ++c) {
       const bool numeric = c == 2 || c == 3;
       if (c + 1 == line.size())
@@ -81,7 +81,7 @@ void Report::print(std::ostream &out) const {
     out << "\n";
   };
   print_line(header);
-  for (const auto &line : cells) print_line(line);
+  for (const auto& line : cells) print_line(line);
   out << std::right;
 }
 
@@ -91,9 +91,9 @@ std::string Report::to_json() const {
   json["throughput_unit"] = unit_;
   json["reference"] = reference_;
   json["context"] = nlohmann::ordered_json::object();
-  for (const auto &[key, value] : context_) json["context"][key] = value;
+  for (const auto& [key, value] : context_) json["context"][key] = value;
   json["rows"] = nlohmann::ordered_json::array();
-  for (const ReportRow &row : rows_) {
+  for (const ReportRow& row : rows_) {
     nlohmann::ordered_json r;
     r["variant"] = row.variant;
     r["backend"] = row.backend;
@@ -101,13 +101,13 @@ std::string Report::to_json() const {
     r["throughput"] = row.throughput;
     r["error"] = row.error;
     r["metrics"] = nlohmann::ordered_json::object();
-    for (const auto &[name, value] : row.metrics) r["metrics"][name] = value;
+    for (const auto& [name, value] : row.metrics) r["metrics"][name] = value;
     json["rows"].push_back(std::move(r));
   }
   return json.dump(2) + "\n";
 }
 
-void Report::write_json(const std::string &path) const {
+void Report::write_json(const std::string& path) const {
   errno = 0;
   std::ofstream file(path, std::ios::binary);
   if (file) file << to_json();

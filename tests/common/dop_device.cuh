@@ -9,13 +9,13 @@
 
 namespace rt::testing {
 
-template <class T> __global__ void dop_kernel(const T *in, T *out, int n) {
+template <class T> __global__ void dop_kernel(const T* in, T* out, int n) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n)
     out[i] = difference_of_products(in[4 * i], in[4 * i + 1], in[4 * i + 2], in[4 * i + 3]);
 }
 
-template <class T> std::vector<T> dop_on_gpu(const std::vector<T> &quads) {
+template <class T> std::vector<T> dop_on_gpu(const std::vector<T>& quads) {
   const int n = static_cast<int>(quads.size() / 4);
   DeviceBuffer<T> d_in{std::span<const T>(quads)};
   DeviceBuffer<T> d_out(n);

@@ -23,10 +23,10 @@ Parsed parse(std::vector<std::string> args) {
   Parsed p{0, {}, {}};
   add_common_options(app, p.options);
   args.insert(args.begin(), "prog");
-  std::vector<char *> argv;
-  for (auto &a : args) argv.push_back(a.data());
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
   std::ostringstream err;
-  auto *old = std::cerr.rdbuf(err.rdbuf());
+  auto* old = std::cerr.rdbuf(err.rdbuf());
   p.exit_code = run_main(app, int(argv.size()), argv.data(), [] { return 0; });
   std::cerr.rdbuf(old);
   p.err = err.str();
@@ -49,7 +49,7 @@ TEST_CASE("common options parse", "[common]") {
 }
 
 TEST_CASE("bad command-line values are one clear error line and exit code 2", "[common]") {
-  for (const auto &args : std::vector<std::vector<std::string>>{{"--width", "0"},
+  for (const auto& args : std::vector<std::vector<std::string>>{{"--width", "0"},
                                                                 {"--height", "-5"},
                                                                 {"--width", "100000"},
                                                                 {"--width", "abc"},
@@ -67,9 +67,9 @@ TEST_CASE("bad command-line values are one clear error line and exit code 2", "[
 TEST_CASE("errors thrown by the program body become exit codes", "[common]") {
   CLI::App app{"test", "prog"};
   char name[] = "prog";
-  char *argv[] = {name};
+  char* argv[] = {name};
   std::ostringstream err;
-  auto *old = std::cerr.rdbuf(err.rdbuf());
+  auto* old = std::cerr.rdbuf(err.rdbuf());
   CHECK(run_main(app, 1, argv, []() -> int { throw InputError("bad mesh 'x.obj'"); }) == 1);
   CHECK(run_main(app, 1, argv, []() -> int { throw UsageError("bad flag"); }) == 2);
   CHECK(run_main(app, 1, argv, []() -> int { throw std::bad_alloc(); }) == 1);

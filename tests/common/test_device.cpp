@@ -10,8 +10,8 @@
 #include "rt/device_buffer.h"
 #include "rt/scalar.h"
 
-std::vector<float> dop_on_gpu_default_flags(const std::vector<float> &quads);
-std::vector<float> dop_on_gpu_no_fmad(const std::vector<float> &quads);
+std::vector<float> dop_on_gpu_default_flags(const std::vector<float>& quads);
+std::vector<float> dop_on_gpu_no_fmad(const std::vector<float>& quads);
 
 using namespace rt;
 

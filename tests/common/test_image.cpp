@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path temp_path(const std::string &name) {
+fs::path temp_path(const std::string& name) {
   return fs::temp_directory_path() / ("rt_test_" + std::to_string(::getpid()) + "_" + name);
 }
 
@@ -36,7 +36,7 @@ TEST_CASE("PNG round trip keeps every pixel", "[common]") {
   const fs::path path = temp_path("a.png");
   write_image(path.string(), image);
   int w = 0, h = 0, channels = 0;
-  unsigned char *data = stbi_load(path.string().c_str(), &w, &h, &channels, 4);
+  unsigned char* data = stbi_load(path.string().c_str(), &w, &h, &channels, 4);
   REQUIRE(data != nullptr);
   CHECK(w == 5);
   CHECK(h == 3);
@@ -60,7 +60,7 @@ TEST_CASE("PFM holds the header and float rows bottom to top", "[common]") {
   CHECK(h == 3);
   CHECK(scale == -1.0f);
   std::vector<float> data(5 * 3 * 3);
-  in.read(reinterpret_cast<char *>(data.data()), std::streamsize(data.size() * sizeof(float)));
+  in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * sizeof(float)));
   REQUIRE(in);
   // The first stored row is the image's bottom row (y = 2).
   CHECK(data[0] == 0.0f);

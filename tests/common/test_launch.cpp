@@ -11,7 +11,7 @@ using namespace rt;
 TEST_CASE("CPU launch visits every pixel exactly once", "[common]") {
   for (const Extent e : {Extent{1, 1}, Extent{3, 1000}, Extent{1000, 3}, Extent{257, 129}}) {
     std::vector<unsigned> counts(static_cast<std::size_t>(e.pixel_count()), 0u);
-    unsigned *c = counts.data();
+    unsigned* c = counts.data();
     for_each_pixel(Backend::cpu, e,
                    [=](int x, int y) { atomic_increment(c + y * e.width + x); });
     for (unsigned n : counts) REQUIRE(n == 1u);

@@ -5,7 +5,7 @@
 namespace rt::testing {
 
 std::string gpu_unavailable_reason() {
-  const GpuInfo &gpu = gpu_info();
+  const GpuInfo& gpu = gpu_info();
   return gpu.usable ? std::string() : gpu.why_unusable;
 }
 

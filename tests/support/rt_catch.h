@@ -14,10 +14,10 @@ using Catch::Approx;
 
 namespace rt::testing {
 #if RT_CATCH_V3
-inline auto contains(const std::string &s) { return Catch::Matchers::ContainsSubstring(s); }
-inline auto starts_with(const std::string &s) { return Catch::Matchers::StartsWith(s); }
+inline auto contains(const std::string& s) { return Catch::Matchers::ContainsSubstring(s); }
+inline auto starts_with(const std::string& s) { return Catch::Matchers::StartsWith(s); }
 #else
-inline auto contains(const std::string &s) { return Catch::Contains(s); }
-inline auto starts_with(const std::string &s) { return Catch::StartsWith(s); }
+inline auto contains(const std::string& s) { return Catch::Contains(s); }
+inline auto starts_with(const std::string& s) { return Catch::StartsWith(s); }
 #endif
 } // namespace rt::testing

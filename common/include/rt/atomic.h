@@ -6,7 +6,7 @@
 
 namespace rt {
 
-RT_HD inline unsigned atomic_increment(unsigned *counter) {
+RT_HD inline unsigned atomic_increment(unsigned* counter) {
 #if RT_ON_DEVICE
   return atomicAdd(counter, 1u);
 #else

@@ -10,7 +10,7 @@ namespace rt {
 
 enum class Backend { automatic, gpu, cpu };
 
-const char *to_string(Backend backend);
+const char* to_string(Backend backend);
 // Parses "auto", "gpu" or "cpu"; anything else is a UsageError.
 Backend parse_backend(std::string_view text);
 
@@ -23,11 +23,11 @@ struct GpuInfo {
 };
 
 // Probes device 0 once per process (later calls return the cached answer).
-const GpuInfo &gpu_info();
+const GpuInfo& gpu_info();
 
 // Turns a requested backend into gpu or cpu. `automatic` falls back to the CPU and writes one
 // notice line to `notice`; `gpu` without a usable device throws NoGpuError.
-Backend resolve_backend(Backend requested, std::ostream &notice);
+Backend resolve_backend(Backend requested, std::ostream& notice);
 
 // Threads the CPU backend uses: the hardware's count, or RT_CPU_THREADS when set.
 int cpu_thread_count();

@@ -26,10 +26,10 @@ struct CommonOptions {
 };
 
 // Adds --width, --height, --output, --backend, --frames and --json to `app`.
-void add_common_options(CLI::App &app, CommonOptions &options);
+void add_common_options(CLI::App& app, CommonOptions& options);
 
 // Parses the command line and runs `body`. Prints "<program>: error: <message>" on any error
 // and returns the exit code: 0 success, 1 runtime error, 2 bad usage.
-int run_main(CLI::App &app, int argc, char **argv, const std::function<int()> &body);
+int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 } // namespace rt

@@ -13,7 +13,7 @@ namespace rt {
 
 class CudaError : public Error {
 public:
-  CudaError(cudaError_t code, const std::string &expression, const char *file, int line);
+  CudaError(cudaError_t code, const std::string& expression, const char* file, int line);
   cudaError_t code() const { return code_; }
 
 private:
@@ -21,12 +21,12 @@ private:
 };
 
 // Throws CudaError if code is not cudaSuccess. The macros below fill in the context.
-void cuda_check(cudaError_t code, const char *expression, const char *file, int line);
+void cuda_check(cudaError_t code, const char* expression, const char* file, int line);
 
 // After a kernel launch: reports launch-configuration errors at once (cudaGetLastError).
 // With RT_SYNC_CHECK=1 in the environment it also synchronizes, so a fault inside the kernel
 // is reported at its launch rather than at some later call.
-void cuda_check_launch(const char *kernel, const char *file, int line);
+void cuda_check_launch(const char* kernel, const char* file, int line);
 
 } // namespace rt
 

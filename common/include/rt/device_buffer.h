@@ -22,22 +22,22 @@ public:
     const std::size_t bytes = count * sizeof(T);
     if (bytes / sizeof(T) != count) throw InputError("device buffer size overflows");
     const std::string what = "cudaMalloc of " + std::to_string(bytes) + " bytes";
-    cuda_check(cudaMalloc(reinterpret_cast<void **>(&data_), bytes), what.c_str(), __FILE__,
+    cuda_check(cudaMalloc(reinterpret_cast<void**>(&data_), bytes), what.c_str(), __FILE__,
                __LINE__);
   }
   explicit DeviceBuffer(std::span<const T> host) : DeviceBuffer(host.size()) { upload(host); }
   ~DeviceBuffer() { reset(); }
 
-  DeviceBuffer(const DeviceBuffer &) = delete;
-  DeviceBuffer &operator=(const DeviceBuffer &) = delete;
-  DeviceBuffer(DeviceBuffer &&other) noexcept { swap(other); }
-  DeviceBuffer &operator=(DeviceBuffer &&other) noexcept {
+  DeviceBuffer(const DeviceBuffer&) = delete;
+  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+  DeviceBuffer(DeviceBuffer&& other) noexcept { swap(other); }
+  DeviceBuffer& operator=(DeviceBuffer&& other) noexcept {
     DeviceBuffer(std::move(other)).swap(*this);
     return *this;
   }
 
-  T *data() { return data_; }
-  const T *data() const { return data_; }
+  T* data() { return data_; }
+  const T* data() const { return data_; }
   std::size_t size() const { return count_; }
   std::size_t bytes() const { return count_ * sizeof(T); }
 
@@ -68,12 +68,12 @@ private:
     data_ = nullptr;
     count_ = 0;
   }
-  void swap(DeviceBuffer &other) noexcept {
+  void swap(DeviceBuffer& other) noexcept {
     std::swap(data_, other.data_);
     std::swap(count_, other.count_);
   }
 
-  T *data_ = nullptr;     // device pointer, owned
+  T* data_ = nullptr;     // device pointer, owned
   std::size_t count_ = 0; // number of elements
 };
 
@@ -83,13 +83,13 @@ public:
   ~CudaEvent() {
     if (event_ != nullptr) cudaEventDestroy(event_);
   }
-  CudaEvent(const CudaEvent &) = delete;
-  CudaEvent &operator=(const CudaEvent &) = delete;
+  CudaEvent(const CudaEvent&) = delete;
+  CudaEvent& operator=(const CudaEvent&) = delete;
 
   void record(cudaStream_t stream = nullptr) { RT_CUDA_CHECK(cudaEventRecord(event_, stream)); }
   void synchronize() { RT_CUDA_CHECK(cudaEventSynchronize(event_)); }
   // Milliseconds from `start` to this event; both must have completed.
-  float milliseconds_since(const CudaEvent &start) const {
+  float milliseconds_since(const CudaEvent& start) const {
     float ms = 0.0f;
     RT_CUDA_CHECK(cudaEventElapsedTime(&ms, start.event_, event_));
     return ms;

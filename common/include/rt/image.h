@@ -28,20 +28,20 @@ struct Image {
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), pixels(static_cast<std::size_t>(w) * h) {}
-  Rgba8 &at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
-  const Rgba8 &at(int x, int y) const {
+  Rgba8& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  const Rgba8& at(int x, int y) const {
     return pixels[static_cast<std::size_t>(y) * width + x];
   }
 };
 
 // Writes an 8-bit PNG; throws OutputError naming the path if it cannot.
-void write_png(const std::string &path, const Image &image);
+void write_png(const std::string& path, const Image& image);
 // Writes a PFM (little-endian, bottom row first as the format defines); throws OutputError.
-void write_pfm(const std::string &path, int width, int height, std::span<const Vec3f> rgb);
+void write_pfm(const std::string& path, int width, int height, std::span<const Vec3f> rgb);
 // PNG or PFM by the path's extension (.png / .pfm); other extensions are a UsageError.
-void write_image(const std::string &path, const Image &image);
+void write_image(const std::string& path, const Image& image);
 // Throws UsageError unless the path ends in .png or .pfm.
-void check_image_path(const std::string &path);
+void check_image_path(const std::string& path);
 
 // How many pixels differ between two images of the same size.
 std::size_t count_differing_pixels(std::span<const Rgba8> a, std::span<const Rgba8> b);

@@ -29,11 +29,11 @@ public:
   void add_context(std::string key, std::string value);
   void add_row(ReportRow row);
 
-  const std::vector<ReportRow> &rows() const { return rows_; }
-  void print(std::ostream &out) const;
+  const std::vector<ReportRow>& rows() const { return rows_; }
+  void print(std::ostream& out) const;
   std::string to_json() const;
   // Throws OutputError naming the path if it cannot be written.
-  void write_json(const std::string &path) const;
+  void write_json(const std::string& path) const;
 
 private:
   std::string title_;

@@ -31,7 +31,7 @@ TimingPlan timing_plan(Backend resolved, int frames = 0);
 // Median, minimum and maximum of a set of samples in milliseconds.
 Timing summarize(std::vector<double> samples_ms);
 
-template <class Run> Timing time_cpu(Run &&run, TimingPlan plan) {
+template <class Run> Timing time_cpu(Run&& run, TimingPlan plan) {
   for (int i = 0; i < plan.warmups; ++i) run();
   std::vector<double> samples;
   for (int i = 0; i < plan.runs; ++i) {
@@ -44,7 +44,7 @@ template <class Run> Timing time_cpu(Run &&run, TimingPlan plan) {
 }
 
 // `launch` enqueues GPU work on the default stream; only that work is timed.
-template <class Launch> Timing time_gpu(Launch &&launch, TimingPlan plan) {
+template <class Launch> Timing time_gpu(Launch&& launch, TimingPlan plan) {
   for (int i = 0; i < plan.warmups; ++i) launch();
   CudaEvent start, stop;
   std::vector<double> samples;
@@ -59,7 +59,7 @@ template <class Launch> Timing time_gpu(Launch &&launch, TimingPlan plan) {
 }
 
 // Times `run` on the given resolved backend with the protocol's plan.
-template <class Run> Timing time_on(Backend resolved, Run &&run, int frames = 0) {
+template <class Run> Timing time_on(Backend resolved, Run&& run, int frames = 0) {
   const TimingPlan plan = timing_plan(resolved, frames);
   return resolved == Backend::gpu ? time_gpu(run, plan) : time_cpu(run, plan);
 }
