@@ -18,9 +18,11 @@ function(rt_add_chapter)
   target_link_libraries(${lib} PUBLIC ${ARG_DEPENDS} PRIVATE rt::options)
   set_target_properties(${lib} PROPERTIES CUDA_SEPARABLE_COMPILATION OFF)
 
-  add_executable(${exe} ${ARG_MAIN})
-  target_link_libraries(${exe} PRIVATE ${lib} rt::options)
-  set_target_properties(${exe} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
+  if(ARG_MAIN) # a chapter whose program is still to come has only its library and tests
+    add_executable(${exe} ${ARG_MAIN})
+    target_link_libraries(${exe} PRIVATE ${lib} rt::options)
+    set_target_properties(${exe} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
+  endif()
 
   if(RT_BUILD_TESTS AND ARG_TESTS)
     set(test_dir ${PROJECT_SOURCE_DIR}/tests/${ARG_NUMBER}_${ARG_SLUG})

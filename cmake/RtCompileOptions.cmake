@@ -15,6 +15,8 @@ if(RT_SANITIZE)
   set(_rt_san -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
   target_compile_options(rt_options INTERFACE
     $<$<COMPILE_LANGUAGE:CXX>:${_rt_san}>
-    "$<$<COMPILE_LANGUAGE:CUDA>:SHELL:-Xcompiler=-fsanitize=address,undefined,-fno-omit-frame-pointer,-fno-sanitize-recover=all>")
+    # nvcc splits -Xcompiler values at commas, so each flag gets its own -Xcompiler.
+    "$<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-fsanitize=address;-Xcompiler=-fsanitize=undefined>"
+    "$<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-fno-omit-frame-pointer;-Xcompiler=-fno-sanitize-recover=all>")
   target_link_options(rt_options INTERFACE ${_rt_san})
 endif()

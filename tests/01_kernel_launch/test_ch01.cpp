@@ -2,18 +2,12 @@
 // awkward sizes, and the flat offset check's damage counted exactly.
 #include "rt_catch.h"
 
+#include "awkward_sizes.h"
 #include "first_kernel.h"
 
 using namespace rt;
 using namespace rt::ch01;
-
-namespace {
-
-// Sizes that catch bounds bugs: a single pixel, primes, one more than a block, full HD.
-const Extent k_awkward_sizes[] = {{1, 1},   {17, 13}, {16, 16}, {17, 16},
-                                  {16, 17}, {33, 1},  {1, 257}, {1920, 1080}};
-
-} // namespace
+using rt::testing::k_awkward_sizes;
 
 TEST_CASE("launch helper writes every pixel exactly once on the CPU", "[ch01]") {
   for (const Extent extent : k_awkward_sizes) {

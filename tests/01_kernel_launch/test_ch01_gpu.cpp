@@ -2,19 +2,14 @@
 // pixel exactly once, and the GPU images equal the CPU's.
 #include "rt_catch.h"
 
+#include "awkward_sizes.h"
 #include "first_kernel.h"
 #include "gpu_guard.h"
 #include "rt/device_buffer.h"
 
 using namespace rt;
 using namespace rt::ch01;
-
-namespace {
-
-const Extent k_awkward_sizes[] = {{1, 1},   {17, 13}, {16, 16}, {17, 16},
-                                  {16, 17}, {33, 1},  {1, 257}, {1920, 1080}};
-
-} // namespace
+using rt::testing::k_awkward_sizes;
 
 TEST_CASE("GPU launch helper writes every pixel exactly once", "[ch01][gpu]") {
   RT_REQUIRE_GPU();
