@@ -16,3 +16,7 @@ mkdir -p "$img"
 # hangs over both edges and the flat offset check wraps rows.
 "$bin/ch01_kernel_launch" --backend cpu --width 200 --height 120 --block 16x16 --frames 1 \
   --output "$img/01_block_pattern.png" --flat-output "$img/01_flat_offset_check.png"
+
+# Chapter 02: the animation's frame 119 at 480x270, headless.
+"$bin/ch02_pbo_interop" --headless --backend cpu --width 480 --height 270 --frames 120 \
+  --output "$img/02_frame.png"

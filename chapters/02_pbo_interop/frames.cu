@@ -1,0 +1,68 @@
+// Chapter 02: frames on either backend, and the CUDA-GL pixel buffer. See frames.h.
+#include "frames.h"
+
+#include <cuda_gl_interop.h>
+
+#include "gl_check.h"
+#include "rt/cuda_check.h"
+#include "rt/device_buffer.h"
+
+namespace rt::ch02 {
+
+void render_frame(Backend backend, Rgba8* pixels, Extent extent, int frame) {
+  const int width = extent.width, height = extent.height;
+  for_each_pixel(backend, extent, [=] RT_HD(int x, int y) {
+    pixels[y * width + x] = animated_pattern(x, y, width, height, frame);
+  });
+}
+
+Image render_frame_image(Backend backend, Extent extent, int frame) {
+  Image image(extent.width, extent.height);
+  if (backend == Backend::cpu) {
+    render_frame(backend, image.pixels.data(), extent, frame);
+    return image;
+  }
+  DeviceBuffer<Rgba8> d_image(image.pixels.size());
+  render_frame(backend, d_image.data(), extent, frame);
+  d_image.download(image.pixels);
+  return image;
+}
+
+GlPixelBuffer::GlPixelBuffer(std::size_t bytes) : bytes_(bytes) {
+  RT_GL_CHECK(glGenBuffers(1, &id_));
+  RT_GL_CHECK(glBindBuffer(GL_PIXEL_UNPACK_BUFFER, id_));
+  // GL_STREAM_DRAW: written once per frame (by CUDA), read once by GL's texture upload.
+  RT_GL_CHECK(glBufferData(GL_PIXEL_UNPACK_BUFFER, GLsizeiptr(bytes), nullptr, GL_STREAM_DRAW));
+  RT_GL_CHECK(glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0));
+}
+
+GlPixelBuffer::~GlPixelBuffer() {
+  if (id_ != 0) glDeleteBuffers(1, &id_);
+}
+
+// [listing:register_map]
+CudaGlRegistration::CudaGlRegistration(const GlPixelBuffer& buffer) {
+  // WriteDiscard: CUDA will overwrite the whole buffer, so the driver need not preserve (or
+  // copy) its old contents when it hands the buffer over.
+  RT_CUDA_CHECK(cudaGraphicsGLRegisterBuffer(&resource_, buffer.id(),
+                                             cudaGraphicsRegisterFlagsWriteDiscard));
+}
+
+CudaGlRegistration::~CudaGlRegistration() {
+  if (resource_ != nullptr) cudaGraphicsUnregisterResource(resource_);
+}
+
+CudaGlRegistration::Mapping::Mapping(cudaGraphicsResource_t resource) : resource_(resource) {
+  RT_CUDA_CHECK(cudaGraphicsMapResources(1, &resource_));
+  std::size_t bytes = 0;
+  void* pointer = nullptr;
+  const cudaError_t code = cudaGraphicsResourceGetMappedPointer(&pointer, &bytes, resource_);
+  if (code != cudaSuccess) cudaGraphicsUnmapResources(1, &resource_); // no half-open state
+  RT_CUDA_CHECK(code);
+  pixels_ = static_cast<Rgba8*>(pointer);
+}
+
+CudaGlRegistration::Mapping::~Mapping() { cudaGraphicsUnmapResources(1, &resource_); }
+// [/listing:register_map]
+
+} // namespace rt::ch02

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Runs chapter 02 in a real window and checks its screenshot against the headless output of
+# the same frame, pixel for pixel (same pixels give byte-identical PNG files).
+#   tools/window-test.sh BUILD_DIR OUT_DIR [PATH...]    (paths: interop copy cpu; default cpu)
+# Without a DISPLAY it starts a virtual X server (Xvfb) for the run.
+set -euo pipefail
+build="$1"; out="$2"; shift 2
+paths=("${@:-cpu}")
+exe="$build/bin/ch02_pbo_interop"
+mkdir -p "$out"
+xvfb_pid=""
+if [ -z "${DISPLAY:-}" ]; then
+  display=":$((90 + RANDOM % 9))"
+  Xvfb "$display" -screen 0 1920x1080x24 +extension GLX -nolisten tcp >"$out/xvfb.log" 2>&1 &
+  xvfb_pid=$!
+  trap 'kill $xvfb_pid 2>/dev/null || true' EXIT
+  export DISPLAY="$display"
+  for _ in $(seq 50); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
+fi
+frames=60
+backend=cpu
+status=0
+for path in "${paths[@]}"; do
+  [ "$path" = cpu ] && backend=cpu || backend=gpu
+  "$exe" --window --backend "$backend" --path "$path" --frames $frames --width 320 --height 181 \
+    --output "$out/window-$path.png" --json "$out/window-$path.json"
+  "$exe" --headless --backend "$backend" --frames $frames --width 320 --height 181 \
+    --output "$out/headless-$path.png"
+  if cmp -s "$out/window-$path.png" "$out/headless-$path.png"; then
+    echo "window-test: $path: screenshot identical to the headless frame"
+  else
+    echo "window-test: $path: screenshot DIFFERS from the headless frame"; status=1
+  fi
+done
+exit $status
