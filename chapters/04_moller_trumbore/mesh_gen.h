@@ -1,0 +1,38 @@
+// Chapter 04: closed triangle meshes made by code, for tests that fire rays from inside.
+// Vertices are shared through indices, so two triangles meeting at an edge use the very same
+// floats for its end points: the precondition of every watertightness argument.
+#pragma once
+
+#include <vector>
+
+#include "rt/vec.h"
+#include "triangle.h"
+
+namespace rt::ch04 {
+
+struct IndexedTriangle {
+  int v0, v1, v2; // indices into Mesh::vertices, counter-clockwise seen from outside
+};
+
+struct Mesh {
+  std::vector<Vec3f> vertices;            // each position stored once
+  std::vector<IndexedTriangle> triangles; // neighbours name the same vertex indices
+
+  TriangleF triangle(int i) const {
+    const IndexedTriangle& t = triangles[i];
+    return {vertices[t.v0], vertices[t.v1], vertices[t.v2]};
+  }
+};
+
+// A sphere made from an icosahedron whose faces are split in four `subdivisions` times
+// (20 * 4^subdivisions triangles), vertices computed in double and rounded once to float.
+Mesh make_icosphere(int subdivisions, Vec3d centre, double radius);
+
+// An axis-aligned box whose faces are grids of `cells` x `cells` squares, two triangles each.
+Mesh make_box(Vec3d min_corner, Vec3d max_corner, int cells);
+
+// Directed edges that have no partner running the other way: 0 for a closed, consistently
+// oriented mesh in which every edge is shared by exactly two triangles.
+int count_unpaired_edges(const Mesh& mesh);
+
+} // namespace rt::ch04

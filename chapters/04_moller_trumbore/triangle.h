@@ -1,0 +1,116 @@
+// Chapter 04: the ray/triangle intersection, twice. Möller–Trumbore is short and fast but
+// lets rays slip between two triangles that share an edge; the watertight test does not.
+#pragma once
+
+#include <limits>
+
+#include "ray.h"
+#include "rt/scalar.h"
+#include "rt/vec.h"
+
+namespace rt::ch04 {
+
+using ch03::Ray;
+
+template <class T> struct Triangle { Vec3<T> v0, v1, v2; };
+
+template <class T> struct TriangleHit {
+  bool hit = false;     // false: the other fields mean nothing
+  T t = T(0);           // the hit point is origin + t * direction
+  T u = T(0), v = T(0); // barycentrics: the hit point is (1-u-v) v0 + u v1 + v v2
+};
+
+using TriangleF = Triangle<float>;
+using TriangleD = Triangle<double>;
+using TriangleHitF = TriangleHit<float>;
+using TriangleHitD = TriangleHit<double>;
+
+// False for infinities and NaN (every comparison with NaN is false).
+template <class T> RT_HD inline bool is_finite(T x) {
+  return absolute(x) <= std::numeric_limits<T>::max();
+}
+
+// Möller & Trumbore 1997, two-sided: solve o + t d = v0 + u e1 + v e2 by Cramer's rule. Each
+// triangle measures u and v from its own v0 and edges, so two triangles sharing an edge round
+// their edge tests differently, and a ray through the edge can fail both.
+template <class T> RT_HD TriangleHit<T> intersect_moller_trumbore(Ray<T> ray, Triangle<T> tri) {
+  const Vec3<T> edge1 = tri.v1 - tri.v0;
+  const Vec3<T> edge2 = tri.v2 - tri.v0;
+  const Vec3<T> p = cross(ray.direction, edge2);
+  // The paper's det = e1 . (d x e2), grouped as d . (e2 x e1): the same triple product, but
+  // for collinear edges cross() (exact in sign) gives exactly 0 and the triangle is rejected,
+  // where e1 . p would leave rounding noise that passes the tests below at random.
+  const T det = dot(ray.direction, cross(edge2, edge1));
+  // Only a zero or non-finite determinant is rejected. det scales with |d| |e1| |e2|: the
+  // usual |det| < 1e-6 cull rejects every triangle with legs below 1e-3 at unit distance.
+  if (det == T(0) || !is_finite(det)) return {};
+  const T inv_det = T(1) / det;
+  const Vec3<T> s = ray.origin - tri.v0;
+  const T u = dot(s, p) * inv_det;
+  if (!(u >= T(0) && u <= T(1))) return {}; // written so that NaN rejects
+  const Vec3<T> q = cross(s, edge1);
+  const T v = dot(ray.direction, q) * inv_det;
+  if (!(v >= T(0) && u + v <= T(1))) return {};
+  const T t = dot(edge2, q) * inv_det;
+  if (!(t > ray.tmin && t < ray.tmax)) return {};
+  return {true, t, u, v};
+}
+
+// Woop, Benthin & Wald 2013, "Watertight Ray/Triangle Intersection", two-sided. The vertices
+// move into a frame where the ray is the +z axis from the origin; then the hit test is three
+// 2D edge functions of the moved vertices. A vertex shared by two triangles moves to the same
+// point in both (same ray, same arithmetic), and an edge function computed with an exact sign
+// has exactly opposite signs in the two triangles of a shared edge: no ray passes between.
+template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangle<T> tri) {
+  // 1. Permute the axes so that z is the direction's largest component (no division by a
+  // small number), swapping x and y when z is negative to keep the winding.
+  const Vec3<T> d = ray.direction;
+  const Vec3<T> d_abs = elementwise_abs(d);
+  const int kz =
+      d_abs.x >= d_abs.y ? (d_abs.x >= d_abs.z ? 0 : 2) : (d_abs.y >= d_abs.z ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  if (d[kz] < T(0)) {
+    const int swap = kx;
+    kx = ky;
+    ky = swap;
+  }
+  // 2. Shear so the direction becomes (0, 0, 1). NaN or zero directions make NaN here, and
+  // NaN fails the inside test below.
+  const T shear_x = d[kx] / d[kz];
+  const T shear_y = d[ky] / d[kz];
+  const T shear_z = T(1) / d[kz];
+  const Vec3<T> a = tri.v0 - ray.origin, b = tri.v1 - ray.origin, c = tri.v2 - ray.origin;
+  // Explicit FMAs: whatever the compiler's contraction setting, a vertex moves to the same
+  // point in every triangle that shares it.
+  const T ax = fused_multiply_add(-shear_x, a[kz], a[kx]);
+  const T ay = fused_multiply_add(-shear_y, a[kz], a[ky]);
+  const T bx = fused_multiply_add(-shear_x, b[kz], b[kx]);
+  const T by = fused_multiply_add(-shear_y, b[kz], b[ky]);
+  const T cx = fused_multiply_add(-shear_x, c[kz], c[kx]);
+  const T cy = fused_multiply_add(-shear_y, c[kz], c[ky]);
+  // 3. Edge functions: twice the signed areas of the triangles the origin makes with each
+  // edge. The paper recomputes one in double when float gives exactly 0, because a plainly
+  // rounded a*b - c*d can come out 0, or with the wrong sign, when the products nearly cancel
+  // (and nvcc's contraction fma(a, b, -c*d) rounds the two triangles of an edge differently).
+  // difference_of_products is within 2 ulps of the exact value (Jeannerod, Louvet & Muller
+  // 2013), so its sign is the exact sign and it is 0 only when the exact value is: no fallback
+  // is needed while the products stay clear of float underflow (coordinates above ~1e-15).
+  const T u_edge = difference_of_products(cx, by, cy, bx); // edge v1 v2: weight of v0
+  const T v_edge = difference_of_products(ax, cy, ay, cx); // edge v2 v0: weight of v1
+  const T w_edge = difference_of_products(bx, ay, by, ax); // edge v0 v1: weight of v2
+  const bool inside = (u_edge >= T(0) && v_edge >= T(0) && w_edge >= T(0)) ||
+                      (u_edge <= T(0) && v_edge <= T(0) && w_edge <= T(0));
+  if (!inside) return {};
+  const T det = u_edge + v_edge + w_edge;
+  if (det == T(0)) return {}; // the ray lies in the plane, or the triangle is a segment
+  // 4. Distance: interpolate the moved z coordinates, scaled back to units of d.
+  const T t_times_det =
+      u_edge * (shear_z * a[kz]) + v_edge * (shear_z * b[kz]) + w_edge * (shear_z * c[kz]);
+  const T inv_det = T(1) / det;
+  const T t = t_times_det * inv_det;
+  if (!(t > ray.tmin && t < ray.tmax)) return {};
+  return {true, t, v_edge * inv_det, w_edge * inv_det};
+}
+
+} // namespace rt::ch04

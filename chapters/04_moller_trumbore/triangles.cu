@@ -1,0 +1,91 @@
+// Chapter 04: rays against a mesh, brute force, on either backend. See triangles.h.
+#include "triangles.h"
+
+#include <span>
+
+#include "ray_batch.h"
+#include "rt/device_buffer.h"
+
+namespace rt::ch04 {
+
+using ch03::for_each_ray_cpu;
+using ch03::for_each_ray_gpu;
+
+const char* to_string(TriangleVariant variant) {
+  return variant == TriangleVariant::moller_trumbore ? "Moller-Trumbore" : "watertight";
+}
+
+namespace {
+
+// The mesh in device memory for as long as this object lives.
+struct DeviceMesh {
+  DeviceBuffer<Vec3f> vertices;
+  DeviceBuffer<IndexedTriangle> triangles;
+
+  explicit DeviceMesh(const Mesh& mesh)
+      : vertices(std::span<const Vec3f>(mesh.vertices)),
+        triangles(std::span<const IndexedTriangle>(mesh.triangles)) {}
+  MeshView view() const {
+    return {vertices.data(), triangles.data(), static_cast<int>(triangles.size())};
+  }
+};
+
+LeakCount summarize(const std::vector<int>& hits_per_ray) {
+  LeakCount count;
+  count.rays = static_cast<long long>(hits_per_ray.size());
+  for (const int hits : hits_per_ray) {
+    count.leaks += hits == 0 ? 1 : 0;
+    count.double_hits += hits >= 2 ? 1 : 0;
+  }
+  return count;
+}
+
+} // namespace
+
+std::vector<MeshHit> closest_hits_gpu(TriangleVariant variant, const Mesh& mesh,
+                                      const std::vector<RayF>& rays) {
+  const DeviceMesh d_mesh(mesh);
+  const DeviceBuffer<RayF> d_rays{std::span<const RayF>(rays)};
+  DeviceBuffer<MeshHit> d_hits(rays.size());
+  const MeshView view = d_mesh.view();
+  const RayF* ray_in = d_rays.data();
+  MeshHit* hit_out = d_hits.data();
+  for_each_ray_gpu(static_cast<int>(rays.size()), [=] __device__(int i) {
+    hit_out[i] = closest_hit(variant, view, ray_in[i]);
+  });
+  return d_hits.to_host();
+}
+
+std::vector<MeshHit> closest_hits_cpu(TriangleVariant variant, const Mesh& mesh,
+                                      const std::vector<RayF>& rays) {
+  std::vector<MeshHit> hits(rays.size());
+  const MeshView view = host_view(mesh);
+  for_each_ray_cpu(static_cast<int>(rays.size()),
+                   [&](int i) { hits[i] = closest_hit(variant, view, rays[i]); });
+  return hits;
+}
+
+LeakCount count_leaks_gpu(TriangleVariant variant, const Mesh& mesh,
+                          const std::vector<RayF>& rays) {
+  const DeviceMesh d_mesh(mesh);
+  const DeviceBuffer<RayF> d_rays{std::span<const RayF>(rays)};
+  DeviceBuffer<int> d_hits_per_ray(rays.size());
+  const MeshView view = d_mesh.view();
+  const RayF* ray_in = d_rays.data();
+  int* hits_out = d_hits_per_ray.data();
+  for_each_ray_gpu(static_cast<int>(rays.size()), [=] __device__(int i) {
+    hits_out[i] = count_hits(variant, view, ray_in[i]);
+  });
+  return summarize(d_hits_per_ray.to_host());
+}
+
+LeakCount count_leaks_cpu(TriangleVariant variant, const Mesh& mesh,
+                          const std::vector<RayF>& rays) {
+  std::vector<int> hits_per_ray(rays.size());
+  const MeshView view = host_view(mesh);
+  for_each_ray_cpu(static_cast<int>(rays.size()),
+                   [&](int i) { hits_per_ray[i] = count_hits(variant, view, rays[i]); });
+  return summarize(hits_per_ray);
+}
+
+} // namespace rt::ch04
