@@ -2,6 +2,7 @@
 #include "first_kernel.h"
 
 #include "rt/atomic.h"
+#include "rt/backend_image.h"
 #include "rt/cuda_check.h"
 #include "rt/device_buffer.h"
 
@@ -119,23 +120,15 @@ WriteAudit audit_writes(std::span<const unsigned> counts_with_guard, Extent imag
 }
 
 Image render_image(Backend backend, Extent extent, BlockShape block) {
-  Image image(extent.width, extent.height);
-  if (backend == Backend::cpu) {
-    render_block_pattern(backend, image.pixels.data(), extent, block);
-    return image;
-  }
-  DeviceBuffer<Rgba8> d_image(image.pixels.size());
-  render_block_pattern(backend, d_image.data(), extent, block);
-  d_image.download(image.pixels);
-  return image;
+  return render_into_image(backend, extent, [&](Rgba8* pixels) {
+    render_block_pattern(backend, pixels, extent, block);
+  });
 }
 
 Image render_first_kernel_image(Extent extent, BlockShape block) {
-  Image image(extent.width, extent.height);
-  DeviceBuffer<Rgba8> d_image(image.pixels.size());
-  launch_first_kernel(d_image.data(), extent, block);
-  d_image.download(image.pixels);
-  return image;
+  return render_into_image(Backend::gpu, extent, [&](Rgba8* d_image) {
+    launch_first_kernel(d_image, extent, block);
+  });
 }
 
 } // namespace rt::ch01

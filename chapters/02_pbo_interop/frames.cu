@@ -4,6 +4,7 @@
 #include <cuda_gl_interop.h>
 
 #include "gl_check.h"
+#include "rt/backend_image.h"
 #include "rt/cuda_check.h"
 #include "rt/device_buffer.h"
 
@@ -17,15 +18,8 @@ void render_frame(Backend backend, Rgba8* pixels, Extent extent, int frame) {
 }
 
 Image render_frame_image(Backend backend, Extent extent, int frame) {
-  Image image(extent.width, extent.height);
-  if (backend == Backend::cpu) {
-    render_frame(backend, image.pixels.data(), extent, frame);
-    return image;
-  }
-  DeviceBuffer<Rgba8> d_image(image.pixels.size());
-  render_frame(backend, d_image.data(), extent, frame);
-  d_image.download(image.pixels);
-  return image;
+  return render_into_image(
+      backend, extent, [&](Rgba8* pixels) { render_frame(backend, pixels, extent, frame); });
 }
 
 GlPixelBuffer::GlPixelBuffer(std::size_t bytes) : bytes_(bytes) {

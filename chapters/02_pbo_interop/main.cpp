@@ -65,7 +65,6 @@ void run_headless(const ChapterOptions& options, Backend backend, Report& report
   int frame = 0;
   if (backend == Backend::gpu) {
     DeviceBuffer<Rgba8> d_frame(last.pixels.size());
-    frame = 0;
     const Timing kernel = time_gpu(
         [&] { render_frame(Backend::gpu, d_frame.data(), extent, frame++); }, {5, frames});
     d_frame.download(last.pixels);

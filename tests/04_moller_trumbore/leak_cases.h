@@ -3,6 +3,7 @@
 #pragma once
 
 #include "mesh_gen.h"
+#include "triangles.h"
 
 namespace rt::testing {
 
@@ -26,5 +27,9 @@ inline constexpr LeakConfiguration k_leak_configurations[] = {
     {"icosphere (80) at 1e5", true, {1e5, 1e5, 1e5}, 0.3f, 102},
     {"box (108) at 0", false, {0, 0, 0}, 0.3f, 103},
     {"box (108) at 1e5", false, {1e5, -1e5, 1e5}, 0.3f, 104}};
+
+// Both intersection tests, for suites that run every check on each.
+inline constexpr ch04::TriangleVariant k_variants[] = {ch04::TriangleVariant::moller_trumbore,
+                                                       ch04::TriangleVariant::watertight};
 
 } // namespace rt::testing

@@ -19,11 +19,9 @@
 using namespace rt;
 using namespace rt::ch04;
 using rt::testing::k_leak_configurations;
+using rt::testing::k_variants;
 
 namespace {
-
-constexpr TriangleVariant k_variants[] = {TriangleVariant::moller_trumbore,
-                                          TriangleVariant::watertight};
 
 template <class T> void check_analytic_hits() {
   const auto ray = [](Vec3d origin, Vec3d direction,

@@ -16,11 +16,9 @@
 using namespace rt;
 using namespace rt::ch04;
 using rt::testing::k_leak_configurations;
+using rt::testing::k_variants;
 
 namespace {
-
-constexpr TriangleVariant k_variants[] = {TriangleVariant::moller_trumbore,
-                                          TriangleVariant::watertight};
 
 // Rays from inside in uniformly random directions: almost none passes within an ulp of an
 // edge, so both backends must agree on every hit.
