@@ -2,6 +2,8 @@
 # Runs chapter 02 in a real window and checks its screenshot against the headless output of
 # the same frame, pixel for pixel (same pixels give byte-identical PNG files).
 #   tools/window-test.sh BUILD_DIR OUT_DIR [PATH...]    (paths: interop copy cpu; default cpu)
+# With RT_WINDOW_REPORT=gpu (or cpu) it also runs the window report of every path at the
+# default size, for the book's table.
 # Without a DISPLAY it starts a virtual X server (Xvfb) for the run.
 set -euo pipefail
 build="$1"; out="$2"; shift 2
@@ -32,4 +34,8 @@ for path in "${paths[@]}"; do
     echo "window-test: $path: screenshot DIFFERS from the headless frame"; status=1
   fi
 done
+if [ -n "${RT_WINDOW_REPORT:-}" ]; then # the chapter's window report at its default size
+  "$exe" --window --backend "$RT_WINDOW_REPORT" --path all --json "$out/window-report.json" \
+    --output "$out/window-report.png"
+fi
 exit $status

@@ -1,16 +1,38 @@
 #!/usr/bin/env bash
-# Downloads the Debian packages of tools/gpu/debs.txt into a folder (default: .gpu-debs), for
-# a GPU machine without internet. Copy the folder over; tools/gpu/run.sh unpacks it into a
-# private prefix there (nothing is installed system-wide).
+# Downloads what an offline GPU machine needs into one folder (default: .gpu-debs), to be
+# copied over; tools/gpu/run.sh unpacks it there into private prefixes (nothing is installed
+# system-wide):
+#   - the Debian packages of tools/gpu/debs.txt (build dependencies and their libraries);
+#   - x11.tar.xz: the packages of tools/gpu/x11-debs.txt (a virtual X server with GLX for the
+#     window test), unpacked here and packed again without documentation, in one archive small
+#     enough to travel. Rebuilt only when that list changes (xz -9 takes a few minutes).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 dest="$(realpath -m "${1:-$root/.gpu-debs}")"
 mkdir -p "$dest"
-mapfile -t packages < <(grep -v '^#' "$root/tools/gpu/debs.txt" | grep -v '^[[:space:]]*$')
+package_list() { grep -v '^#' "$1" | grep -v '^[[:space:]]*$'; }
 lists=$(mktemp -d)
-trap 'rm -rf "$lists"' EXIT
+work=$(mktemp -d)
+trap 'rm -rf "$lists" "$work"' EXIT
 opts=(-o APT::Architecture=amd64 -o APT::Architectures=amd64 -o Dir::State::Lists="$lists")
 mkdir -p "$lists/partial"
 apt-get "${opts[@]}" update -q >/dev/null
+
+mapfile -t packages < <(package_list "$root/tools/gpu/debs.txt")
 (cd "$dest" && apt-get "${opts[@]}" download "${packages[@]}")
 echo "downloaded ${#packages[@]} packages into $dest"
+
+x11_list="$root/tools/gpu/x11-debs.txt"
+stamp="$(sha256sum "$x11_list" | cut -d' ' -f1)"
+if [ -f "$dest/x11.tar.xz" ] && [ "$(cat "$dest/x11.stamp" 2>/dev/null)" = "$stamp" ]; then
+  echo "x11.tar.xz is up to date"
+  exit 0
+fi
+mapfile -t x11_packages < <(package_list "$x11_list")
+mkdir -p "$work/debs" "$work/root"
+(cd "$work/debs" && apt-get "${opts[@]}" download "${x11_packages[@]}")
+for deb in "$work"/debs/*.deb; do dpkg-deb -x "$deb" "$work/root"; done
+rm -rf "$work"/root/usr/share/{doc,man,locale,lintian,bug} "$work/root/usr/include"
+tar -C "$work/root" -cf - . | xz -9 -T0 >"$dest/x11.tar.xz"
+echo "$stamp" >"$dest/x11.stamp"
+echo "packed ${#x11_packages[@]} packages into $dest/x11.tar.xz ($(du -h "$dest/x11.tar.xz" | cut -f1))"

@@ -23,8 +23,14 @@ step() { # step NAME COMMAND...: runs a command, logs it, remembers a failure
 debs="${RT_DEBS:-$root/.gpu-debs}"
 prefix="${RT_PREFIX:-/tmp/rt-prefix}"
 cmake_args=()
+window_libs=""
 if [ -d "$debs" ]; then
   for deb in "$debs"/*.deb; do dpkg-deb -x "$deb" "$prefix"; done
+  # Links that name an absolute system path (libz.so -> /lib/.../libz.so.1.2.13) point into
+  # the prefix instead.
+  find "$prefix" -type l -lname '/*' | while read -r link; do
+    ln -sfn "$prefix$(readlink "$link")" "$link"
+  done
   export PATH="$prefix/usr/bin:$PATH"
   libs="$prefix/usr/lib/x86_64-linux-gnu"
   libs="$libs:$libs/pulseaudio:$prefix/lib/x86_64-linux-gnu" # Debian 12 still ships some in /lib
@@ -33,6 +39,35 @@ if [ -d "$debs" ]; then
   # _real_SDL_config.h); in a private prefix the compiler must be told.
   export CPATH="$prefix/usr/include/x86_64-linux-gnu${CPATH:+:$CPATH}"
   cmake_args+=("-DCMAKE_PREFIX_PATH=$prefix/usr")
+fi
+if [ -f "$debs/x11.tar.xz" ] && ! command -v Xvfb >/dev/null; then
+  # A virtual X server for the window test, in its own prefix; only the server sees its
+  # libraries. Xvfb looks for its GL driver, keyboard data and keyboard compiler at fixed
+  # system paths: link them there where this machine has nothing of its own.
+  x11="${RT_X11_PREFIX:-/tmp/rt-x11}"
+  mkdir -p "$x11/wrap"
+  xz -dc "$debs/x11.tar.xz" | tar -C "$x11" -xf -
+  x11_libs="$x11/usr/lib/x86_64-linux-gnu:$x11/lib/x86_64-linux-gnu:${LD_LIBRARY_PATH:-}"
+  printf '#!/bin/sh\nLD_LIBRARY_PATH="%s" exec "%s" "$@"\n' "$x11_libs" "$x11/usr/bin/Xvfb" \
+    >"$x11/wrap/Xvfb"
+  chmod +x "$x11/wrap/Xvfb"
+  export PATH="$x11/wrap:$PATH"
+  # The NVIDIA GLX driver opens X client libraries of its own (such as the GLX protocol
+  # library) that a bare CUDA image lacks: the window test finds them after the others.
+  window_libs="${LD_LIBRARY_PATH:-}:$x11/usr/lib/x86_64-linux-gnu"
+  for path in /usr/lib/x86_64-linux-gnu/dri /usr/share/X11/xkb /usr/bin/xkbcomp; do
+    [ -e "$path" ] || { mkdir -p "$(dirname "$path")"; ln -s "$x11$path" "$path"; }
+  done
+  # NVIDIA's GLX driver gives no visuals unless the vendor-neutral GL dispatch (glvnd) sits in
+  # the system's library folder: put it there if the machine has none, and let the private
+  # prefix's copies point at it so that one copy is loaded.
+  if ! ldconfig -p | grep -q 'libGLX.so.0 '; then
+    for pkg in libglvnd0 libgl1 libglx0 libopengl0; do dpkg-deb -x "$debs/${pkg}"_*.deb /; done
+    ldconfig
+    for lib in "$prefix"/usr/lib/x86_64-linux-gnu/lib{GL,GLX,GLdispatch,OpenGL}.so.*; do
+      ln -sf "/usr/lib/x86_64-linux-gnu/$(basename "$lib")" "$lib"
+    done
+  fi
 fi
 
 nvidia-smi >"$logdir/nvidia-smi.txt" 2>&1 || { echo "no NVIDIA GPU answers nvidia-smi"; exit 1; }
@@ -59,9 +94,11 @@ for exe in build/native/bin/ch*; do
   cat "$logdir/report_$name.log"
 done
 if command -v Xvfb >/dev/null; then # chapter 02's window, on the GPU's own OpenGL
-  step window_test env __GLX_VENDOR_LIBRARY_NAME=nvidia tools/window-test.sh build/native \
-    "$logdir/window" interop copy cpu
-  cat "$logdir/window_test.log" | grep "window-test:"
+  step window_test env __GLX_VENDOR_LIBRARY_NAME=nvidia RT_WINDOW_REPORT=gpu \
+    LD_LIBRARY_PATH="${window_libs:-${LD_LIBRARY_PATH:-}}" \
+    tools/window-test.sh build/native "$logdir/window" interop copy cpu
+  grep -v "^wrote" "$logdir/window_test.log" || true
+  [ -s "$logdir/window/xvfb.log" ] && tail -20 "$logdir/window/xvfb.log"
 else
   echo "== window_test: skipped, no Xvfb on this machine (chapter 02's window is not tested)"
 fi
