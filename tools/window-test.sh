@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs chapter 02 in a real window and checks its screenshot against the headless output of
-# the same frame, pixel for pixel (same pixels give byte-identical PNG files).
+# Runs chapters 02, 03 and 04 in a real window and checks each screenshot against the
+# headless output of the same frame, pixel for pixel (same pixels give byte-identical PNGs).
 #   tools/window-test.sh BUILD_DIR OUT_DIR [PATH...]    (paths: interop copy cpu; default cpu)
 # With RT_WINDOW_REPORT=gpu (or cpu) it also runs the window report of every path at the
 # default size, for the book's table.
@@ -22,20 +22,42 @@ fi
 frames=60
 backend=cpu
 status=0
+compare() { # compare NAME WINDOW_PNG HEADLESS_PNG
+  if cmp -s "$2" "$3"; then
+    echo "window-test: $1: screenshot identical to the headless frame"
+  else
+    echo "window-test: $1: screenshot DIFFERS from the headless frame"; status=1
+  fi
+}
 for path in "${paths[@]}"; do
   [ "$path" = cpu ] && backend=cpu || backend=gpu
   "$exe" --window --backend "$backend" --path "$path" --frames $frames --width 320 --height 181 \
     --output "$out/window-$path.png" --json "$out/window-$path.json"
   "$exe" --headless --backend "$backend" --frames $frames --width 320 --height 181 \
     --output "$out/headless-$path.png"
-  if cmp -s "$out/window-$path.png" "$out/headless-$path.png"; then
-    echo "window-test: $path: screenshot identical to the headless frame"
-  else
-    echo "window-test: $path: screenshot DIFFERS from the headless frame"; status=1
-  fi
+  compare "ch02 $path" "$out/window-$path.png" "$out/headless-$path.png"
+  # Chapters 03 and 04 open the interactive viewer: interop on the GPU, upload on the CPU.
+  [ "$path" = copy ] && continue
+  for chapter in ch03_spheres ch04_moller_trumbore; do
+    [ -x "$build/bin/$chapter" ] || continue
+    extra=()
+    [ "$chapter" = ch04_moller_trumbore ] && extra=(--leak-rays 1000)
+    "$build/bin/$chapter" --window --backend "$backend" --frames 10 --width 320 --height 181 \
+      --output "$out/window-$chapter-$path.png" --json "$out/window-$chapter-$path.json"
+    "$build/bin/$chapter" --headless --backend "$backend" --frames 1 --width 320 --height 181 \
+      "${extra[@]}" --output "$out/headless-$chapter-$path.png" >/dev/null
+    compare "$chapter $path" "$out/window-$chapter-$path.png" \
+      "$out/headless-$chapter-$path.png"
+  done
 done
 if [ -n "${RT_WINDOW_REPORT:-}" ]; then # the chapter's window report at its default size
-  "$exe" --window --backend "$RT_WINDOW_REPORT" --path all --json "$out/window-report.json" \
+  "$exe" --window --backend "$RT_WINDOW_REPORT" --path all --frames 120 \
+    --json "$out/window-report.json" \
     --output "$out/window-report.png"
+  for chapter in ch03_spheres ch04_moller_trumbore; do
+    [ -x "$build/bin/$chapter" ] || continue
+    "$build/bin/$chapter" --window --backend "$RT_WINDOW_REPORT" --frames 120 \
+      --json "$out/window-report-$chapter.json" --output "$out/window-report-$chapter.png"
+  done
 fi
 exit $status

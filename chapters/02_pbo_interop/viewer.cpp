@@ -81,6 +81,7 @@ ViewerInput Viewer::poll() {
   ViewerInput input;
   SDL_Event event;
   while (SDL_PollEvent(&event)) {
+    if (event_handler_) event_handler_(event);
     if (event.type == SDL_QUIT) input.quit = true;
     if (event.type == SDL_KEYDOWN) {
       switch (event.key.keysym.sym) {

@@ -3,6 +3,7 @@
 // chapters open it with --window.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include <GL/glew.h>
@@ -12,6 +13,7 @@
 #include "rt/launch.h"
 
 struct SDL_Window;
+union SDL_Event;
 
 namespace rt::ch02 {
 
@@ -43,6 +45,11 @@ public:
 
   Extent size() const { return size_; }
   ViewerInput poll();
+  // Every event poll() sees is also handed to `handler` (later chapters steer a camera with
+  // it).
+  void set_event_handler(std::function<void(const SDL_Event&)> handler) {
+    event_handler_ = std::move(handler);
+  }
   void set_title(const std::string& title);
   void set_vsync(bool on);
   bool vsync() const { return vsync_; }
@@ -69,6 +76,7 @@ private:
   GLuint framebuffer_ = 0; // a read framebuffer with the texture attached, for the blit
   Extent size_;
   bool vsync_ = true;
+  std::function<void(const SDL_Event&)> event_handler_;
 };
 
 } // namespace rt::ch02

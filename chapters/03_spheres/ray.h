@@ -20,7 +20,7 @@ using RayD = Ray<double>;
 
 // The same ray in the other precision: the float64 reference of a float ray starts from the
 // float-rounded values, so it measures the arithmetic and not the rounding of the inputs.
-template <class U, class T> Ray<U> ray_as(const Ray<T>& ray) {
+template <class U, class T> RT_HD Ray<U> ray_as(const Ray<T>& ray) {
   return {ray.origin.template as<U>(), ray.direction.template as<U>(), static_cast<U>(ray.tmin),
           static_cast<U>(ray.tmax)};
 }

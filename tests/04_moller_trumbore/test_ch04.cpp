@@ -12,14 +12,13 @@
 #include "rt_catch.h"
 
 #include "adversarial_rays.h"
-#include "leak_cases.h"
+#include "leak_configurations.h"
 #include "mesh_gen.h"
+#include "mesh_render.h"
 #include "triangles.h"
 
 using namespace rt;
 using namespace rt::ch04;
-using rt::testing::k_leak_configurations;
-using rt::testing::k_variants;
 
 namespace {
 
@@ -283,4 +282,44 @@ TEST_CASE("rays from inside closed meshes, aimed at vertices and edges: watertig
     }
   }
   CHECK(moller_trumbore_leaks > 0); // the test shows the problem it guards against
+}
+
+TEST_CASE("demo scene: closed icosphere and box, a floor quad, each triangle labelled",
+          "[ch04]") {
+  const ch04::TriangleScene scene = ch04::make_demo_scene(2, {0, 0, 0});
+  REQUIRE(scene.object.size() == scene.mesh.triangles.size());
+  CHECK(scene.mesh.triangles.size() == 320 + 48 + 2);
+  ch04::Mesh parts[2];
+  for (std::size_t i = 0; i < scene.object.size(); ++i)
+    if (scene.object[i] < 2)
+      parts[scene.object[i]].triangles.push_back(scene.mesh.triangles[i]);
+  for (ch04::Mesh& part : parts) {
+    part.vertices = scene.mesh.vertices;
+    CHECK(ch04::count_unpaired_edges(part) == 0);
+  }
+}
+
+TEST_CASE("demo scene render: no holes against float64, at the origin and moved by 1e5",
+          "[ch04]") {
+  const Extent extent{200, 112};
+  for (double offset : {0.0, 1e5}) {
+    const Vec3d shift{offset, offset, offset};
+    const ch04::TriangleScene scene = ch04::make_demo_scene(2, shift);
+    ch03::CameraSpec spec;
+    spec.eye = Vec3d{0.0, 2.2, 6.5} + shift;
+    spec.target = Vec3d{0.3, 0.7, 0.0} + shift;
+    const ch04::MeshReference reference = ch04::render_triangles_reference(scene, spec, extent);
+    for (TriangleVariant variant : k_variants) {
+      Image image(extent.width, extent.height);
+      std::vector<ch04::MeshPixelRecord> records(image.pixels.size());
+      ch04::render_triangles(Backend::cpu, variant, ch04::host_view(scene.mesh),
+                             scene.object.data(), ch03::make_camera<float>(spec, extent),
+                             extent, image.pixels.data(), records.data());
+      const ch04::MeshFrameError e = ch04::compare_with_reference(image, records, reference);
+      CAPTURE(offset, ch04::to_string(variant), e.pixels_differing, e.holes);
+      CHECK(e.nan_pixels == 0);
+      if (variant == TriangleVariant::watertight) CHECK(e.holes == 0);
+      CHECK(e.pixels_differing <= extent.pixel_count() / 100);
+    }
+  }
 }

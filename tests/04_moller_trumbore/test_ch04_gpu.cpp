@@ -10,13 +10,13 @@
 
 #include "adversarial_rays.h"
 #include "gpu_guard.h"
-#include "leak_cases.h"
+#include "leak_configurations.h"
+#include "mesh_render.h"
+#include "rt/device_buffer.h"
 #include "triangles.h"
 
 using namespace rt;
 using namespace rt::ch04;
-using rt::testing::k_leak_configurations;
-using rt::testing::k_variants;
 
 namespace {
 
@@ -103,5 +103,35 @@ TEST_CASE("GPU watertight test never leaks with nvcc's default FMA contraction",
       CHECK(count.rays == k_rays);
       if (variant == TriangleVariant::watertight) CHECK(count.leaks == 0);
     }
+  }
+}
+
+TEST_CASE("GPU render of the demo scene equals the CPU's, with no holes", "[ch04][gpu]") {
+  RT_REQUIRE_GPU();
+  const Extent extent{320, 180};
+  const ch04::TriangleScene scene = ch04::make_demo_scene(2, {0, 0, 0});
+  ch03::CameraSpec spec;
+  spec.eye = {0.0, 2.2, 6.5};
+  spec.target = {0.3, 0.7, 0.0};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
+  const ch04::MeshReference reference = ch04::render_triangles_reference(scene, spec, extent);
+  const ch04::DeviceTriangleScene d_scene(scene);
+  for (TriangleVariant variant : k_variants) {
+    Image gpu(extent.width, extent.height), cpu(extent.width, extent.height);
+    std::vector<ch04::MeshPixelRecord> records(gpu.pixels.size());
+    DeviceBuffer<Rgba8> d_pixels(gpu.pixels.size());
+    DeviceBuffer<ch04::MeshPixelRecord> d_records(records.size());
+    ch04::render_triangles(Backend::gpu, variant, d_scene.view(), d_scene.object(), camera,
+                           extent, d_pixels.data(), d_records.data());
+    d_pixels.download(gpu.pixels);
+    d_records.download(records);
+    ch04::render_triangles(Backend::cpu, variant, ch04::host_view(scene.mesh),
+                           scene.object.data(), camera, extent, cpu.pixels.data());
+    const ch04::MeshFrameError e = ch04::compare_with_reference(gpu, records, reference);
+    CAPTURE(ch04::to_string(variant), e.pixels_differing, e.holes);
+    CHECK(static_cast<long long>(count_differing_pixels(gpu.pixels, cpu.pixels)) <=
+          extent.pixel_count() / 200);
+    CHECK(e.nan_pixels == 0);
+    if (variant == TriangleVariant::watertight) CHECK(e.holes == 0);
   }
 }

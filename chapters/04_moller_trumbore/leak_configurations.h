@@ -1,11 +1,11 @@
-// Chapter 04 leak test configurations shared by the CPU and GPU tests: closed meshes at the
-// origin and translated by 1e5, where a float ulp is 0.008 and rounding is at its roughest.
+// Chapter 04: the leak configurations the program reports and the tests check: closed meshes
+// at the origin and translated by 1e5, where a float ulp is 0.008 and rounding is roughest.
 #pragma once
 
 #include "mesh_gen.h"
 #include "triangles.h"
 
-namespace rt::testing {
+namespace rt::ch04 {
 
 struct LeakConfiguration {
   const char* name;
@@ -14,10 +14,10 @@ struct LeakConfiguration {
   float spread;   // ray origins lie within this distance of the centre
   unsigned seed;
 
-  ch04::Mesh make_mesh() const {
+  Mesh make_mesh() const {
     const Vec3d half_size{1, 1, 1};
-    return icosphere ? ch04::make_icosphere(1, offset, 1.0)
-                     : ch04::make_box(offset - half_size, offset + half_size, 3);
+    return icosphere ? make_icosphere(1, offset, 1.0)
+                     : make_box(offset - half_size, offset + half_size, 3);
   }
   Vec3f inside() const { return offset.as<float>(); }
 };
@@ -29,7 +29,7 @@ inline constexpr LeakConfiguration k_leak_configurations[] = {
     {"box (108) at 1e5", false, {1e5, -1e5, 1e5}, 0.3f, 104}};
 
 // Both intersection tests, for suites that run every check on each.
-inline constexpr ch04::TriangleVariant k_variants[] = {ch04::TriangleVariant::moller_trumbore,
-                                                       ch04::TriangleVariant::watertight};
+inline constexpr TriangleVariant k_variants[] = {TriangleVariant::moller_trumbore,
+                                                 TriangleVariant::watertight};
 
-} // namespace rt::testing
+} // namespace rt::ch04

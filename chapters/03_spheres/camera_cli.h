@@ -1,0 +1,18 @@
+// Chapter 03: the camera flags every chapter from here on accepts:
+//   --eye x,y,z  --target x,y,z  --up x,y,z  --fov degrees  --camera pinhole|orthographic
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "camera_spec.h"
+
+namespace rt::ch03 {
+
+// Adds the flags to `app`; the values land in `spec` once the command line is parsed.
+void add_camera_options(CLI::App& app, CameraSpec& spec);
+
+// Throws UsageError when the settings describe no camera: eye on the target, up parallel to
+// the view direction, a field of view outside (0, 180), anything not finite.
+void validate_camera(const CameraSpec& spec);
+
+} // namespace rt::ch03
