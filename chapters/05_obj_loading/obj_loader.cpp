@@ -1,0 +1,326 @@
+// Chapter 05: the OBJ loader. See obj_loader.h.
+//
+// Loading takes four steps:
+//   1. Bytes: the file is read with a size cap; gzip data is unpacked, also capped (gunzip.h).
+//   2. Line checks: every statement the mesh depends on is checked, with its line number, and
+//      the statements it does not use are blanked out (obj_checks.h).
+//   3. tinyobjloader parses what is left, which is now known to be well formed.
+//   4. Conversion: polygons become fans of triangles; every index is checked once more.
+#include "obj_loader.h"
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <istream>
+#include <map>
+#include <memory>
+#include <set>
+#include <streambuf>
+#include <system_error>
+#include <utility>
+
+#include <tiny_obj_loader.h>
+
+#include "gunzip.h"
+#include "obj_checks.h"
+#include "rt/error.h"
+
+namespace rt::ch05 {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& name, const std::string& what) {
+  throw InputError(name + ": " + what);
+}
+
+// The line checks promise tinyobjloader only text it reads correctly. If the two ever disagree
+// the mesh cannot be trusted, so loading stops (the fuzzer treats this message as a bug).
+[[noreturn]] void disagreement(const std::string& name, const std::string& what) {
+  fail(name, "tinyobjloader disagrees with the line checks: " + what);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 1: bytes.
+
+using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+[[noreturn]] void fail_too_large(const std::string& name, long long max_bytes) {
+  fail(name,
+       "larger than LoadLimits::max_file_bytes (" + std::to_string(max_bytes) + " bytes)");
+}
+
+// Reads all of `file`, failing as soon as it holds more than max_bytes. The size the file
+// system reports is not trusted: a file can grow while it is read.
+std::string read_all(std::FILE* file, long long max_bytes, const std::string& name) {
+  std::string bytes;
+  std::array<char, 1 << 16> chunk{};
+  for (;;) {
+    const std::size_t got = std::fread(chunk.data(), 1, chunk.size(), file);
+    if (static_cast<long long>(bytes.size() + got) > max_bytes) fail_too_large(name, max_bytes);
+    bytes.append(chunk.data(), got);
+    if (got < chunk.size()) break;
+  }
+  if (std::ferror(file)) fail(name, std::string("read error (") + std::strerror(errno) + ")");
+  return bytes;
+}
+
+// A directory or a device is refused before it is opened: reading /dev/zero never ends, and
+// opening a named pipe waits for a writer that may never come.
+std::string read_obj_file(const std::string& path, const LoadLimits& limits) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (error) fail(path, "cannot open (" + error.message() + ")");
+  if (fs::is_directory(status)) fail(path, "is a directory, not an OBJ file");
+  if (!fs::is_regular_file(status)) fail(path, "is not a regular file");
+  // A size above the limit is believed at once (reading 100 GB to find out would take long).
+  const std::uintmax_t size = fs::file_size(path, error);
+  if (!error && size > static_cast<std::uintmax_t>(std::max(limits.max_file_bytes, 0LL))) {
+    fail_too_large(path, limits.max_file_bytes);
+  }
+  const File file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
+  return read_all(file.get(), limits.max_file_bytes, path);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 3: tinyobjloader.
+
+// tinyobjloader reads from an std::istream. This one reads the text where it already is; an
+// std::istringstream would first copy a file that may be gigabytes long.
+class TextStreamBuffer : public std::streambuf {
+public:
+  explicit TextStreamBuffer(std::string_view text) {
+    // The get area is only read from: the const_cast never leads to a write.
+    char* begin = const_cast<char*>(text.data());
+    setg(begin, begin, begin + text.size());
+  }
+};
+
+// Reads the .mtl files that `mtllib` names, from the OBJ file's folder. tinyobjloader asks for
+// each name once; "false" means not found, and it then carries on without those materials,
+// so the faces that use them get material id -1. That is this chapter's rule for a missing
+// .mtl: the geometry is still right, and a renderer can draw those faces in a default material.
+class MaterialFolder final : public tinyobj::MaterialReader {
+public:
+  MaterialFolder(std::filesystem::path folder, const LoadLimits& limits)
+      : folder_(std::move(folder)), limits_(limits) {}
+
+  bool operator()(const std::string& file, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* names, std::string* warnings,
+                  std::string* errors) override {
+    namespace fs = std::filesystem;
+    const fs::path path = folder_ / file;
+    std::error_code error;
+    if (!fs::is_regular_file(path, error)) return false;
+    fs::path same_file = fs::weakly_canonical(path, error);
+    if (error) same_file = path;
+    if (!loaded_.insert(same_file).second) return true; // named twice, loaded once
+    const File stream_file(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!stream_file) return false;
+    const std::string text = read_all(stream_file.get(), limits_.max_file_bytes, path.string());
+    TextStreamBuffer buffer(text);
+    std::istream stream(&buffer);
+    tinyobj::LoadMtl(names, materials, &stream, warnings, errors);
+    return true;
+  }
+
+private:
+  std::filesystem::path folder_;
+  LoadLimits limits_;
+  std::set<std::filesystem::path> loaded_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Step 4: conversion.
+
+// tinyobjloader's doubles, rounded to float. The line checks let only numbers through that
+// are finite as floats; a non-finite one here would mean the two readers differ.
+float to_float(tinyobj::real_t x, const std::string& name) {
+  const auto f = static_cast<float>(x);
+  if (!ch04::is_finite(f)) disagreement(name, "a number that is not finite as a float");
+  return f;
+}
+
+std::vector<Vec3f> to_vec3f(const std::vector<tinyobj::real_t>& xyz, const std::string& name) {
+  std::vector<Vec3f> out(xyz.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = {to_float(xyz[3 * i], name), to_float(xyz[3 * i + 1], name),
+              to_float(xyz[3 * i + 2], name)};
+  }
+  return out;
+}
+
+// Appends the triangles of a mesh, checking every index that tinyobjloader gives against the
+// arrays it indexes: after the line checks none can be out of range, and this makes sure.
+class MeshBuilder {
+public:
+  MeshBuilder(ObjMesh& mesh, int material_count, const std::string& name)
+      : mesh_(mesh), positions_(static_cast<int>(mesh.geometry.vertices.size())),
+        normals_(static_cast<int>(mesh.normals.size())),
+        texcoords_(static_cast<int>(mesh.texcoords.size())), materials_(material_count),
+        name_(name) {}
+
+  // One triangle of corners a, b, c (tinyobjloader's 0-based indices, -1 where absent).
+  void add(const tinyobj::index_t& a, const tinyobj::index_t& b, const tinyobj::index_t& c,
+           int material) {
+    mesh_.geometry.triangles.push_back({checked(a.vertex_index, positions_, false),
+                                        checked(b.vertex_index, positions_, false),
+                                        checked(c.vertex_index, positions_, false)});
+    if (normals_ > 0) {
+      mesh_.normal_indices.push_back({checked(a.normal_index, normals_, true),
+                                      checked(b.normal_index, normals_, true),
+                                      checked(c.normal_index, normals_, true)});
+    }
+    if (texcoords_ > 0) {
+      mesh_.texcoord_indices.push_back({checked(a.texcoord_index, texcoords_, true),
+                                        checked(b.texcoord_index, texcoords_, true),
+                                        checked(c.texcoord_index, texcoords_, true)});
+    }
+    mesh_.material_ids.push_back(checked(material, materials_, true));
+  }
+
+private:
+  int checked(int index, int count, bool may_be_absent) const {
+    if ((index >= 0 && index < count) || (may_be_absent && index == -1)) return index;
+    disagreement(name_, "index " + std::to_string(index) + " of " + std::to_string(count));
+  }
+
+  ObjMesh& mesh_;
+  int positions_, normals_, texcoords_, materials_; // sizes of the arrays indexed
+  const std::string& name_;
+};
+
+ObjMesh convert(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes,
+                const std::vector<tinyobj::material_t>& materials, const ObjCounts& counts,
+                const std::string& name) {
+  ObjMesh mesh;
+  mesh.geometry.vertices = to_vec3f(attrib.vertices, name);
+  mesh.normals = to_vec3f(attrib.normals, name);
+  mesh.texcoords.resize(attrib.texcoords.size() / 2);
+  for (std::size_t i = 0; i < mesh.texcoords.size(); ++i) {
+    mesh.texcoords[i] = {to_float(attrib.texcoords[2 * i], name),
+                         to_float(attrib.texcoords[2 * i + 1], name)};
+  }
+  if (static_cast<long long>(mesh.geometry.vertices.size()) != counts.positions ||
+      static_cast<long long>(mesh.normals.size()) != counts.normals ||
+      static_cast<long long>(mesh.texcoords.size()) != counts.texcoords) {
+    disagreement(name, "vertex, normal or texture coordinate count");
+  }
+  for (const tinyobj::material_t& material : materials) {
+    mesh.material_names.push_back(material.name);
+  }
+
+  // Polygons become fans around their first corner: (0 1 2), (0 2 3), (0 3 4)... Exact for
+  // the convex polygons exporters write (a quad, a pentagon); a concave polygon would need
+  // ear clipping instead. tinyobjloader can triangulate, but by ear clipping that may drop
+  // pieces of degenerate polygons without a word, so it is asked for the polygons as they are.
+  const auto triangle_count = static_cast<std::size_t>(counts.triangles);
+  mesh.geometry.triangles.reserve(triangle_count);
+  mesh.material_ids.reserve(triangle_count);
+  if (!mesh.normals.empty()) mesh.normal_indices.reserve(triangle_count);
+  if (!mesh.texcoords.empty()) mesh.texcoord_indices.reserve(triangle_count);
+  MeshBuilder builder(mesh, static_cast<int>(materials.size()), name);
+  long long face_number = 0;
+  std::size_t next_large = 0;
+  for (const tinyobj::shape_t& shape : shapes) {
+    const tinyobj::mesh_t& polygons = shape.mesh;
+    if (polygons.material_ids.size() != polygons.num_face_vertices.size()) {
+      disagreement(name, "one material id per face");
+    }
+    std::size_t first = 0; // of the current face's corners in polygons.indices
+    for (std::size_t face = 0; face < polygons.num_face_vertices.size(); ++face) {
+      std::size_t corners = polygons.num_face_vertices[face];
+      if (next_large < counts.large_faces.size() &&
+          counts.large_faces[next_large].first == face_number) {
+        const auto counted = static_cast<std::size_t>(counts.large_faces[next_large++].second);
+        if (counted % 256 != corners) disagreement(name, "corners of a large face");
+        corners = counted;
+      }
+      if (corners < 3 || first + corners > polygons.indices.size()) {
+        disagreement(name, "corners of face " + std::to_string(face_number + 1));
+      }
+      const tinyobj::index_t* corner = polygons.indices.data() + first;
+      for (std::size_t k = 1; k + 1 < corners; ++k) {
+        builder.add(corner[0], corner[k], corner[k + 1], polygons.material_ids[face]);
+      }
+      first += corners;
+      ++face_number;
+    }
+    if (first != polygons.indices.size()) disagreement(name, "corners left over");
+  }
+  if (face_number != counts.faces) {
+    disagreement(name, std::to_string(face_number) + " faces, the checks counted " +
+                           std::to_string(counts.faces));
+  }
+  mesh.object_count = static_cast<int>(shapes.size());
+
+  mesh.bounds_min = mesh.bounds_max = mesh.geometry.vertices[mesh.geometry.triangles[0].v0];
+  for (std::size_t i = 0; i < mesh.geometry.triangles.size(); ++i) {
+    const ch04::TriangleF t = mesh.geometry.triangle(static_cast<int>(i));
+    for (const Vec3f& p : {t.v0, t.v1, t.v2}) {
+      mesh.bounds_min = elementwise_min(mesh.bounds_min, p);
+      mesh.bounds_max = elementwise_max(mesh.bounds_max, p);
+    }
+    // Repeated corners and collinear corners alike give an exactly zero cross product.
+    if (cross(t.v1 - t.v0, t.v2 - t.v0) == Vec3f{}) ++mesh.degenerate_triangle_count;
+  }
+  return mesh;
+}
+
+ObjMesh parse_text(std::string text, const std::string& name, const LoadLimits& limits,
+                   tinyobj::MaterialReader* material_reader) {
+  if (text.empty()) fail(name, "the file is empty");
+  const ObjCounts counts = check_obj_lines(text, name, limits);
+  if (counts.faces == 0) {
+    fail(name, "no faces (" + std::to_string(counts.positions) +
+                   (counts.positions == 1 ? " vertex" : " vertices") +
+                   "): nothing to intersect");
+  }
+
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  {
+    TextStreamBuffer buffer(text);
+    std::istream stream(&buffer);
+    std::string warnings, errors;
+    // Polygons are kept whole (triangulate = false, see convert()); per-vertex colours, an
+    // extension this course does not use, are not stored (default_vcols_fallback = false).
+    // Warnings are not shown: after the line checks they can only be about materials, and a
+    // missing material is allowed (see MaterialFolder).
+    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warnings, &errors, &stream,
+                          material_reader, false, false)) {
+      disagreement(name, errors.substr(0, std::min<std::size_t>(errors.find('\n'), 120)));
+    }
+  }
+  text = std::string(); // no longer needed: its memory goes back before the mesh is built
+  return convert(attrib, shapes, materials, counts, name);
+}
+
+} // namespace
+
+ObjMesh load_obj(const std::string& path, const LoadLimits& limits) {
+  std::string bytes = read_obj_file(path, limits);
+  if (is_gzip(bytes)) bytes = gunzip(bytes, path, limits.max_file_bytes);
+  MaterialFolder materials(std::filesystem::path(path).parent_path(), limits);
+  return parse_text(std::move(bytes), path, limits, &materials);
+}
+
+ObjMesh parse_obj(std::string_view bytes, const std::string& name_for_errors,
+                  const LoadLimits& limits) {
+  if (is_gzip(bytes)) {
+    return parse_text(gunzip(bytes, name_for_errors, limits.max_file_bytes), name_for_errors,
+                      limits, nullptr);
+  }
+  if (static_cast<long long>(bytes.size()) > limits.max_file_bytes) {
+    fail_too_large(name_for_errors, limits.max_file_bytes);
+  }
+  return parse_text(std::string(bytes), name_for_errors, limits, nullptr);
+}
+
+} // namespace rt::ch05

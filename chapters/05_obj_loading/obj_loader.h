@@ -1,0 +1,51 @@
+// Chapter 05: triangle meshes from Wavefront OBJ files (plain or gzip-compressed), read with
+// tinyobjloader and checked line by line first, so that a hostile or broken file ends in one
+// clear error line instead of a crash, a hang or a silently wrong mesh.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mesh_gen.h"
+#include "rt/vec.h"
+
+namespace rt::ch05 {
+
+// What a file may ask for before loading stops with an error. A loader that believes the
+// counts it reads can be made to allocate without bound; these caps come first.
+struct LoadLimits {
+  long long max_triangles = 50'000'000; // after polygons are split into triangles
+  long long max_vertices = 50'000'000;  // each of positions, normals, texture coordinates
+  long long max_file_bytes = 2LL << 30; // the OBJ text, after gzip decompression
+};
+
+// A loaded mesh. Triangle i of `geometry` has corner normals normal_indices[i] and corner
+// texture coordinates texcoord_indices[i] (-1 where its face gave none) and material
+// material_ids[i]. Indices count from 0, unlike the file's, which count from 1.
+struct ObjMesh {
+  ch04::Mesh geometry;                                 // positions and their triangles
+  std::vector<Vec3f> normals;                          // `vn`; empty when the file has none
+  std::vector<ch04::IndexedTriangle> normal_indices;   // per triangle; empty with no normals
+  std::vector<Vec2f> texcoords;                        // `vt` (u, v); empty when none
+  std::vector<ch04::IndexedTriangle> texcoord_indices; // per triangle; empty with no `vt`
+  std::vector<int> material_ids;                       // per triangle; -1: default material
+  std::vector<std::string> material_names;             // from the .mtl files, in file order
+  int object_count = 0;              // runs of faces under one `o` or `g` name (at least 1)
+  int degenerate_triangle_count = 0; // zero area in float: valid geometry, never hit
+  Vec3f bounds_min, bounds_max;      // of the positions that triangles use
+};
+
+// Loads an OBJ file. Gzip-compressed files are recognised by their first two bytes (the gzip
+// magic number), whatever the file is called. Materials come from the .mtl files that
+// `mtllib` names, looked up next to the OBJ file; a missing .mtl is not an error: faces whose
+// `usemtl` names no loaded material get material id -1. Throws rt::InputError with one line,
+// "path:line: what is wrong", for every problem it finds.
+ObjMesh load_obj(const std::string& path, const LoadLimits& limits = {});
+
+// The same from bytes already in memory (OBJ text, or gzip data holding it); errors name
+// `name_for_errors`. No file is opened, so `mtllib` is ignored and every material id is -1.
+ObjMesh parse_obj(std::string_view bytes, const std::string& name_for_errors,
+                  const LoadLimits& limits = {});
+
+} // namespace rt::ch05
