@@ -20,3 +20,21 @@ mkdir -p "$img"
 # Chapter 02: the animation's frame 119 at 480x270, headless.
 "$bin/ch02_pbo_interop" --headless --backend cpu --width 480 --height 270 --frames 120 \
   --output "$img/02_frame.png"
+
+# Chapter 03: the default scene at 960x540 with the stable test (mirror depth 4).
+"$bin/ch03_spheres" --headless --backend cpu --width 960 --height 540 --frames 1 \
+  --output "$img/03_spheres.png" >/dev/null
+
+# Chapter 04: the demo scene at 960x540 with the watertight test.
+"$bin/ch04_moller_trumbore" --headless --backend cpu --width 960 --height 540 --frames 1 \
+  --leak-rays 1000 --output "$img/04_triangles.png" >/dev/null
+
+# Error-against-run-time plots, from the reports measured on a GPU machine (book/data/, written
+# by tools/gpu/run.sh's --json runs and copied there).
+python3 tools/plot-report.py --metric max_relative_t_error --ylabel "max relative t error" \
+  --title "Chapter 03: hit distance error against time per frame (1920x1080)" \
+  --out "$img/03_error_vs_time.svg" book/data/03_spheres.json
+python3 tools/plot-report.py --metric leaks --per rays --rows "leaks," \
+  --ylabel "leaks per million rays" \
+  --title "Chapter 04: leaks against time per million rays" \
+  --out "$img/04_leaks_vs_time.svg" book/data/04_moller_trumbore.json

@@ -63,6 +63,7 @@ template <class T> struct PinholeCamera {
   T aspect;           // width / height
   int width, height;  // image size in pixels
 
+  // [listing:pinhole_ray]
   // Pixel (i, j): column i from the left, row j from the top.
   RT_HD Ray<T> ray_through_pixel(int i, int j) const {
     const T sx = rounded_product(rounded_product(screen_x<T>(i, width), tan_half_vfov), aspect);
@@ -71,6 +72,7 @@ template <class T> struct PinholeCamera {
         normalize_as_written(combine_as_written(sx, basis.right, sy, basis.up, basis.forward));
     return {eye, direction};
   }
+  // [/listing:pinhole_ray]
 };
 
 // The benchmark camera: eye, target, world up, vertical field of view in degrees, image size.
@@ -94,11 +96,13 @@ template <class T> struct OrthographicCamera {
   T aspect;           // width / height
   int width, height;  // image size in pixels
 
+  // [listing:orthographic_ray]
   RT_HD Ray<T> ray_through_pixel(int i, int j) const {
     const T sx = rounded_product(rounded_product(screen_x<T>(i, width), half_height), aspect);
     const T sy = rounded_product(screen_y<T>(j, height), half_height);
     return {combine_as_written(sx, basis.right, sy, basis.up, eye), basis.forward};
   }
+  // [/listing:orthographic_ray]
 };
 
 template <class T>

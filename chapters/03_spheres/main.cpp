@@ -110,6 +110,7 @@ void run_window(const ChapterOptions& options, Backend backend, ch02::Viewer& vi
       error_row(std::string(to_string(options.image_variant)) + ", window (" + shown.path + ")",
                 backend, shown.frame_time, extent, error);
   row.error = group_digits(error.pixels_differing) + " px differ on screen";
+  row.metrics = {{"pixels_differing", double(error.pixels_differing)}}; // nothing else measured
   report.add_row(std::move(row));
   if (options.common.frames > 0 && !options.common.output.empty()) {
     write_image(options.common.output, shown.last_screen);

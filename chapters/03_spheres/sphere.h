@@ -52,6 +52,7 @@ template <class T> RT_HD inline T power_of_point(Vec3<T> centre_to_origin, T rad
 // The textbook form: a t^2 + b t + c = 0 and b^2 - 4ac. For a sphere at distance D, b^2 and
 // 4ac are both about 4 D^2 and their difference, about 4 r^2, is what remains after
 // cancellation: at D = 1e4 r in float it is rounding noise, and rays hit or miss at random.
+// [listing:sphere_textbook]
 template <class T> RT_HD SphereHit<T> intersect_sphere_textbook(Ray<T> ray, Sphere<T> sphere) {
   const Vec3<T> oc = ray.origin - sphere.centre;
   const T a = dot(ray.direction, ray.direction);
@@ -62,12 +63,14 @@ template <class T> RT_HD SphereHit<T> intersect_sphere_textbook(Ray<T> ray, Sphe
   const T root = square_root(discriminant);
   return nearest_root_in_range((-b - root) / (T(2) * a), (-b + root) / (T(2) * a), ray);
 }
+// [/listing:sphere_textbook]
 
 // The stable form (after Haines et al., Ray Tracing Gems ch. 7). With f = o - c the roots of
 // a t^2 - 2 beta t + c = 0 (beta = -f.d, c = |f|^2 - r^2) are (beta +- sqrt(a disc)) / a,
 // where disc = r^2 - |l|^2 and l = f + (beta/a) d runs from the centre to the point of the
 // ray's line closest to it. Both roots come from q = beta + sign(beta) sqrt(a disc), an
 // addition of like signs: t = q / a and t = c / q, so neither root cancels.
+// [listing:sphere_stable]
 template <class T> RT_HD SphereHit<T> intersect_sphere_stable(Ray<T> ray, Sphere<T> sphere) {
   const Vec3<T> f = ray.origin - sphere.centre;
   const Vec3<T> d = ray.direction;
@@ -91,5 +94,6 @@ template <class T> RT_HD SphereHit<T> intersect_sphere_stable(Ray<T> ray, Sphere
   const T t_from_q = q / a, t_from_c = c / q;
   return nearest_root_in_range(min_of(t_from_q, t_from_c), max_of(t_from_q, t_from_c), ray);
 }
+// [/listing:sphere_stable]
 
 } // namespace rt::ch03

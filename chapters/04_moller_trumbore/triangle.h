@@ -33,6 +33,7 @@ template <class T> RT_HD inline bool is_finite(T x) {
 // Möller & Trumbore 1997, two-sided: solve o + t d = v0 + u e1 + v e2 by Cramer's rule. Each
 // triangle measures u and v from its own v0 and edges, so two triangles sharing an edge round
 // their edge tests differently, and a ray through the edge can fail both.
+// [listing:moller_trumbore]
 template <class T> RT_HD TriangleHit<T> intersect_moller_trumbore(Ray<T> ray, Triangle<T> tri) {
   const Vec3<T> edge1 = tri.v1 - tri.v0;
   const Vec3<T> edge2 = tri.v2 - tri.v0;
@@ -55,6 +56,7 @@ template <class T> RT_HD TriangleHit<T> intersect_moller_trumbore(Ray<T> ray, Tr
   if (!(t > ray.tmin && t < ray.tmax)) return {};
   return {true, t, u, v};
 }
+// [/listing:moller_trumbore]
 
 // Woop, Benthin & Wald 2013, "Watertight Ray/Triangle Intersection", two-sided. The vertices
 // move into a frame where the ray is the +z axis from the origin; then the hit test is three
@@ -96,6 +98,7 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   // difference_of_products is within 2 ulps of the exact value (Jeannerod, Louvet & Muller
   // 2013), so its sign is the exact sign and it is 0 only when the exact value is: no fallback
   // is needed while the products stay clear of float underflow (coordinates above ~1e-15).
+  // [listing:watertight_edges]
   const T u_edge = difference_of_products(cx, by, cy, bx); // edge v1 v2: weight of v0
   const T v_edge = difference_of_products(ax, cy, ay, cx); // edge v2 v0: weight of v1
   const T w_edge = difference_of_products(bx, ay, by, ax); // edge v0 v1: weight of v2
@@ -104,6 +107,7 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   if (!inside) return {};
   const T det = u_edge + v_edge + w_edge;
   if (det == T(0)) return {}; // the ray lies in the plane, or the triangle is a segment
+  // [/listing:watertight_edges]
   // 4. Distance: interpolate the moved z coordinates, scaled back to units of d.
   const T t_times_det =
       u_edge * (shear_z * a[kz]) + v_edge * (shear_z * b[kz]) + w_edge * (shear_z * c[kz]);
