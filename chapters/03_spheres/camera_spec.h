@@ -34,6 +34,15 @@ template <class T> struct Camera {
   }
 };
 
+// The float camera's rays, converted exactly to double: a float64 reference traced with it
+// differs from the float render only in the arithmetic after the camera.
+struct FloatRaysInDouble {
+  Camera<float> camera;
+  RT_HD Ray<double> ray_through_pixel(int i, int j) const {
+    return ray_as<double>(camera.ray_through_pixel(i, j));
+  }
+};
+
 template <class T> Camera<T> make_camera(const CameraSpec& spec, Extent extent) {
   Camera<T> camera;
   camera.kind = spec.kind;

@@ -27,8 +27,7 @@ struct ChapterOptions {
   CameraSpec camera;
   int max_depth = 4;
   SphereVariant image_variant = SphereVariant::stable;
-  bool headless = false;
-  bool window = false;
+  DisplayChoice display;
 };
 
 std::string scientific(double value) {
@@ -159,20 +158,13 @@ int run(const ChapterOptions& options) {
                    " camera, mirror depth " + std::to_string(options.max_depth));
   report.add_context("scene", "ground sphere r=1e5, 3 spheres, 3 moons at r/D 1/300..1/3000");
 
-  std::unique_ptr<ch02::Viewer> viewer;
-  if (!options.headless) {
-    try {
-      viewer = std::make_unique<ch02::Viewer>(options.common.extent(), "ch03: spheres", true);
-    } catch (const ch02::DisplayError& e) {
-      if (options.window) throw;
-      std::cout << "notice: " << e.what() << "; rendering headless\n";
-    }
-  }
+  const std::unique_ptr<ch02::Viewer> viewer =
+      open_viewer(options.display, options.common.extent(), "ch03: spheres");
   if (viewer) {
-    report.add_context("mode", "window (frame time: render + upload + draw, glFinish)");
+    report.add_context("mode", k_window_mode);
     run_window(options, backend, *viewer, scene, report);
   } else {
-    report.add_context("mode", "headless (GPU: CUDA events; CPU: steady clock)");
+    report.add_context("mode", k_headless_mode);
     ReferenceFrame reference;
     const Timing reference_time = time_cpu(
         [&] {
@@ -205,13 +197,7 @@ int main(int argc, char** argv) {
                                                {"stable", SphereVariant::stable}},
           CLI::ignore_case))
       ->default_str("stable");
-  auto* headless =
-      app.add_flag("--headless", options.headless, "Render without a window: report and image");
-  app.add_flag("--window", options.window, "Open the window (an error if there is no display)")
-      ->excludes(headless);
-  app.footer("Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E move, "
-             "R resets the camera, S saves a screenshot, V toggles vsync, Esc quits. With "
-             "--frames N the window shows N frames, writes --output and closes.");
+  add_display_options(app, options.display);
   return run_main(app, argc, argv, [&] {
     if (!options.common.output.empty()) check_image_path(options.common.output);
     return run(options);

@@ -25,19 +25,6 @@ void render_spheres(Backend backend, const SphereScene<float>& scene,
 }
 // [/listing:render_spheres]
 
-namespace {
-
-// The float camera's rays, converted exactly to double: the reference then differs from the
-// float render only in the arithmetic after the camera, which is what the variants change.
-struct FloatRaysInDouble {
-  Camera<float> camera;
-  RT_HD Ray<double> ray_through_pixel(int i, int j) const {
-    return ray_as<double>(camera.ray_through_pixel(i, j));
-  }
-};
-
-} // namespace
-
 ReferenceFrame render_reference(const SphereScene<float>& scene, const CameraSpec& spec,
                                 Extent extent, int max_depth) {
   const SphereScene<double> scene64 = scene.as<double>();

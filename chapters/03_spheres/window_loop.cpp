@@ -41,6 +41,28 @@ std::string fixed(double value, int digits) {
 
 } // namespace
 
+void add_display_options(CLI::App& app, DisplayChoice& choice) {
+  auto* headless =
+      app.add_flag("--headless", choice.headless, "Render without a window: report and image");
+  app.add_flag("--window", choice.window, "Open the window (an error if there is no display)")
+      ->excludes(headless);
+  app.footer("Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E move, "
+             "R resets the camera, S saves a screenshot, V toggles vsync, Esc quits. With "
+             "--frames N the window shows N frames, writes --output and closes.");
+}
+
+std::unique_ptr<ch02::Viewer> open_viewer(const DisplayChoice& choice, Extent size,
+                                          const std::string& title) {
+  if (choice.headless) return nullptr;
+  try {
+    return std::make_unique<ch02::Viewer>(size, title, true);
+  } catch (const ch02::DisplayError& e) {
+    if (choice.window) throw;
+    std::cout << "notice: " << e.what() << "; rendering headless\n";
+    return nullptr;
+  }
+}
+
 WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec& start,
                         const WindowSettings& settings, const FrameRenderer& render) {
   const bool interop = backend == Backend::gpu;

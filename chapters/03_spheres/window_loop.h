@@ -5,7 +5,10 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
+
+#include <CLI/CLI.hpp>
 
 #include "camera_spec.h"
 #include "rt/backend.h"
@@ -32,6 +35,25 @@ struct WindowResult {
   CameraSpec camera; // the camera of that frame
   int frames = 0;
 };
+
+// Window or not: --window insists on one, --headless never opens one, and by default a window
+// opens when there is a display.
+struct DisplayChoice {
+  bool headless = false;
+  bool window = false;
+};
+
+// Adds --headless and --window, and a footer that lists the window's controls.
+void add_display_options(CLI::App& app, DisplayChoice& choice);
+
+// The viewer the choice asks for, or null for headless: without a display it prints a notice
+// and returns null, unless --window insisted (then the DisplayError goes on).
+std::unique_ptr<ch02::Viewer> open_viewer(const DisplayChoice& choice, Extent size,
+                                          const std::string& title);
+
+inline constexpr const char* k_window_mode =
+    "window (frame time: render + upload + draw, glFinish)";
+inline constexpr const char* k_headless_mode = "headless (GPU: CUDA events; CPU: steady clock)";
 
 WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec& start,
                         const WindowSettings& settings, const FrameRenderer& render);

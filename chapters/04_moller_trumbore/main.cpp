@@ -32,8 +32,7 @@ struct ChapterOptions {
   int subdivisions = 2;
   int leak_rays = 1'000'000;
   TriangleVariant image_variant = TriangleVariant::watertight;
-  bool headless = false;
-  bool window = false;
+  ch03::DisplayChoice display;
 };
 
 CameraSpec moved(CameraSpec camera, Vec3d offset) {
@@ -206,20 +205,13 @@ int run(const ChapterOptions& options) {
                                       " rays each from inside a closed mesh at its vertices "
                                       "and edges; ms/frame column: ms per million rays");
 
-  std::unique_ptr<ch02::Viewer> viewer;
-  if (!options.headless) {
-    try {
-      viewer = std::make_unique<ch02::Viewer>(options.common.extent(), "ch04: triangles", true);
-    } catch (const ch02::DisplayError& e) {
-      if (options.window) throw;
-      std::cout << "notice: " << e.what() << "; rendering headless\n";
-    }
-  }
+  const std::unique_ptr<ch02::Viewer> viewer =
+      ch03::open_viewer(options.display, options.common.extent(), "ch04: triangles");
   if (viewer) {
-    report.add_context("mode", "window (frame time: render + upload + draw, glFinish)");
+    report.add_context("mode", ch03::k_window_mode);
     run_window(options, backend, *viewer, scene, camera, report);
   } else {
-    report.add_context("mode", "headless (GPU: CUDA events; CPU: steady clock)");
+    report.add_context("mode", ch03::k_headless_mode);
     run_headless(options, backend, scene, camera, report);
   }
   report.print(std::cout);
@@ -256,13 +248,7 @@ int main(int argc, char** argv) {
               {"watertight", TriangleVariant::watertight}},
           CLI::ignore_case))
       ->default_str("watertight");
-  auto* headless =
-      app.add_flag("--headless", options.headless, "Render without a window: report and image");
-  app.add_flag("--window", options.window, "Open the window (an error if there is no display)")
-      ->excludes(headless);
-  app.footer("Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E move, "
-             "R resets the camera, S saves a screenshot, V toggles vsync, Esc quits. With "
-             "--frames N the window shows N frames, writes --output and closes.");
+  ch03::add_display_options(app, options.display);
   return run_main(app, argc, argv, [&] {
     if (!options.common.output.empty()) check_image_path(options.common.output);
     return run(options);

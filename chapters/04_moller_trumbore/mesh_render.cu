@@ -54,13 +54,6 @@ RT_HD Vec3<T> shade(const NearestTriangle<T>& hit, int object, Vec3<T> direction
   return object_colour(object).as<T>() * (T(0.25) + T(0.75) * facing);
 }
 
-struct FloatRaysInDouble {
-  ch03::Camera<float> camera;
-  RT_HD Ray<double> ray_through_pixel(int i, int j) const {
-    return ch03::ray_as<double>(camera.ray_through_pixel(i, j));
-  }
-};
-
 } // namespace
 
 TriangleScene make_demo_scene(int sphere_subdivisions, Vec3d offset) {
@@ -113,7 +106,7 @@ void render_triangles(Backend backend, TriangleVariant variant, MeshView mesh,
 MeshReference render_triangles_reference(const TriangleScene& scene, const CameraSpec& spec,
                                          Extent extent) {
   const MeshView mesh = host_view(scene.mesh);
-  const FloatRaysInDouble camera{ch03::make_camera<float>(spec, extent)};
+  const ch03::FloatRaysInDouble camera{ch03::make_camera<float>(spec, extent)};
   MeshReference reference{Image(extent.width, extent.height),
                           std::vector<int>(extent.pixel_count())};
   for_each_pixel_cpu(extent, [&](int x, int y) {
