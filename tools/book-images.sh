@@ -29,6 +29,11 @@ mkdir -p "$img"
 "$bin/ch04_moller_trumbore" --headless --backend cpu --width 960 --height 540 --frames 1 \
   --leak-rays 1000 --output "$img/04_triangles.png" >/dev/null
 
+# Chapter 05: the course's 100 000-triangle torus knot, framed automatically, brute force on the
+# CPU (minutes on a few cores); the report traces a small sample only.
+"$bin/ch05_obj_loading" --headless --backend cpu --width 480 --height 270 \
+  --reference-pixels 2000 --scaling-max -1 --output "$img/05_model.png" >/dev/null
+
 # Error-against-run-time plots, from the reports measured on a GPU machine (book/data/, written
 # by tools/gpu/run.sh's --json runs and copied there).
 python3 tools/plot-report.py --metric max_relative_t_error --ylabel "max relative t error" \

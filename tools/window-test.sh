@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs chapters 02, 03 and 04 in a real window and checks each screenshot against the
+# Runs chapters 02 to 05 in a real window and checks each screenshot against the
 # headless output of the same frame, pixel for pixel (same pixels give byte-identical PNGs).
 #   tools/window-test.sh BUILD_DIR OUT_DIR [PATH...]    (paths: interop copy cpu; default cpu)
 # With RT_WINDOW_REPORT=gpu (or cpu) it also runs the window report of every path at the
@@ -38,14 +38,20 @@ for path in "${paths[@]}"; do
   compare "ch02 $path" "$out/window-$path.png" "$out/headless-$path.png"
   # Chapters 03 and 04 open the interactive viewer: interop on the GPU, upload on the CPU.
   [ "$path" = copy ] && continue
-  for chapter in ch03_spheres ch04_moller_trumbore; do
+  for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading; do
     [ -x "$build/bin/$chapter" ] || continue
     extra=()
+    scene=()
     [ "$chapter" = ch04_moller_trumbore ] && extra=(--leak-rays 1000)
+    if [ "$chapter" = ch05_obj_loading ]; then # the small room: brute force on 100k is slow
+      scene=(--scene "$(dirname "$0")/../assets/cornell_room.obj.gz")
+      extra=(--scaling-max -1)
+    fi
     "$build/bin/$chapter" --window --backend "$backend" --frames 10 --width 320 --height 181 \
-      --output "$out/window-$chapter-$path.png" --json "$out/window-$chapter-$path.json"
+      "${scene[@]}" --output "$out/window-$chapter-$path.png" \
+      --json "$out/window-$chapter-$path.json"
     "$build/bin/$chapter" --headless --backend "$backend" --frames 1 --width 320 --height 181 \
-      "${extra[@]}" --output "$out/headless-$chapter-$path.png" >/dev/null
+      "${scene[@]}" "${extra[@]}" --output "$out/headless-$chapter-$path.png" >/dev/null
     compare "$chapter $path" "$out/window-$chapter-$path.png" \
       "$out/headless-$chapter-$path.png"
   done
@@ -54,8 +60,9 @@ if [ -n "${RT_WINDOW_REPORT:-}" ]; then # the chapter's window report at its def
   "$exe" --window --backend "$RT_WINDOW_REPORT" --path all --frames 120 \
     --json "$out/window-report.json" \
     --output "$out/window-report.png"
-  for chapter in ch03_spheres ch04_moller_trumbore; do
+  for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading; do
     [ -x "$build/bin/$chapter" ] || continue
+    [ "$chapter" = ch05_obj_loading ] && [ "$RT_WINDOW_REPORT" = cpu ] && continue
     "$build/bin/$chapter" --window --backend "$RT_WINDOW_REPORT" --frames 120 \
       --json "$out/window-report-$chapter.json" --output "$out/window-report-$chapter.png"
   done

@@ -231,6 +231,7 @@ struct IndexedKind {
   long long before = 0;   // above the current line: a negative index counts back from here
 };
 
+// [listing:check_index]
 // One index of a face corner; an error unless it names an existing element. OBJ counts from
 // 1; a negative index counts back from the last element defined above the line (-1 is the
 // latest). tinyobjloader turns both into 0-based indices itself.
@@ -251,6 +252,7 @@ void check_index(std::string_view word, const IndexedKind& kind, const std::stri
            count_of(backwards ? kind.before : kind.total, kind.singular, kind.plural) +
            (backwards ? " before this line)" : ")"));
 }
+// [/listing:check_index]
 
 bool is_integer(std::string_view word) {
   const std::size_t start = !word.empty() && word[0] == '-' ? 1 : 0;

@@ -165,6 +165,7 @@ public:
         texcoords_(static_cast<int>(mesh.texcoords.size())), materials_(material_count),
         name_(name) {}
 
+  // [listing:mesh_builder_add]
   // One triangle of corners a, b, c (tinyobjloader's 0-based indices, -1 where absent).
   void add(const tinyobj::index_t& a, const tinyobj::index_t& b, const tinyobj::index_t& c,
            int material) {
@@ -183,6 +184,7 @@ public:
     }
     mesh_.material_ids.push_back(checked(material, materials_, true));
   }
+  // [/listing:mesh_builder_add]
 
 private:
   int checked(int index, int count, bool may_be_absent) const {
