@@ -40,6 +40,6 @@ python3 tools/plot-report.py --metric max_relative_t_error --ylabel "max relativ
   --title "Chapter 03: hit distance error against time per frame (1920x1080)" \
   --out "$img/03_error_vs_time.svg" book/data/03_spheres.json
 python3 tools/plot-report.py --metric leaks --per rays --rows "leaks," \
-  --ylabel "leaks per million rays" \
+  --ylabel "leaks per million rays" --xlabel "ms per million rays" \
   --title "Chapter 04: leaks against time per million rays" \
   --out "$img/04_leaks_vs_time.svg" book/data/04_moller_trumbore.json

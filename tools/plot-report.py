@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Draws a chapter's error-against-run-time plot (SVG) from the JSON its report writes.
 
-  tools/plot-report.py --metric NAME [--per RAYS_METRIC] [--rows PREFIX] --title TEXT
-                       --out FILE.svg REPORT.json
+  tools/plot-report.py --metric NAME [--per RAYS_METRIC] [--rows PREFIX] [--xlabel TEXT]
+                       [--ylabel TEXT] --title TEXT --out FILE.svg REPORT.json
 
 One point per report row (optionally only rows whose variant starts with PREFIX): x is the
 row's ms/frame, y its metric NAME (divided by the metric RAYS_METRIC and multiplied by a
@@ -15,8 +15,8 @@ import math
 import sys
 from xml.sax.saxutils import escape
 
-WIDTH, HEIGHT = 760, 420
-LEFT, RIGHT, TOP, BOTTOM = 80, 250, 40, 60
+WIDTH, HEIGHT = 900, 420
+LEFT, RIGHT, TOP, BOTTOM = 80, 340, 40, 60
 COLOURS = {"gpu": "#2a7ab0", "cpu": "#c0392b"}
 
 
@@ -31,6 +31,7 @@ def main():
     parser.add_argument("--rows", default="")
     parser.add_argument("--title", required=True)
     parser.add_argument("--ylabel", default=None)
+    parser.add_argument("--xlabel", default="ms per frame")
     parser.add_argument("--out", required=True)
     parser.add_argument("report")
     args = parser.parse_args()
@@ -84,7 +85,7 @@ def main():
         text = "0" if e == math.log10(y_lo) else f"1e{e}"
         out.append(f'<text x="{LEFT - 6}" y="{y + 4:.1f}" text-anchor="end">{text}</text>')
     out.append(f'<text x="{(LEFT + WIDTH - RIGHT) / 2}" y="{HEIGHT - 16}" '
-               f'text-anchor="middle">ms per frame (log)</text>')
+               f'text-anchor="middle">{escape(args.xlabel)} (log)</text>')
     ylabel = escape(args.ylabel or args.metric)
     out.append(f'<text transform="translate(18,{(TOP + HEIGHT - BOTTOM) / 2}) rotate(-90)" '
                f'text-anchor="middle">{ylabel} (log)</text>')
