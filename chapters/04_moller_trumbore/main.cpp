@@ -103,9 +103,10 @@ ReportRow measure_leaks(TriangleVariant variant, Backend backend,
           group_digits(static_cast<long long>(count.leaks * per_million + 0.5)) +
               " leaks per million, " +
               group_digits(static_cast<long long>(count.double_hits * per_million + 0.5)) +
-              " double hits per million",
+              " double hits per million, " + group_digits(count.non_finite) + " NaN",
           {{"leaks", double(count.leaks)},
            {"double_hits", double(count.double_hits)},
+           {"non_finite_hits", double(count.non_finite)},
            {"rays", double(count.rays)}}};
 }
 

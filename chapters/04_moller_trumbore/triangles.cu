@@ -30,12 +30,13 @@ struct DeviceMesh {
   }
 };
 
-LeakCount summarize(const std::vector<int>& hits_per_ray) {
+LeakCount summarize(const std::vector<HitTally>& tallies) {
   LeakCount count;
-  count.rays = static_cast<long long>(hits_per_ray.size());
-  for (const int hits : hits_per_ray) {
-    count.leaks += hits == 0 ? 1 : 0;
-    count.double_hits += hits >= 2 ? 1 : 0;
+  count.rays = static_cast<long long>(tallies.size());
+  for (const HitTally& tally : tallies) {
+    count.leaks += tally.hits == 0 ? 1 : 0;
+    count.double_hits += tally.hits >= 2 ? 1 : 0;
+    count.non_finite += tally.non_finite > 0 ? 1 : 0;
   }
   return count;
 }
@@ -69,23 +70,23 @@ LeakCount count_leaks_gpu(TriangleVariant variant, const Mesh& mesh,
                           const std::vector<RayF>& rays) {
   const DeviceMesh d_mesh(mesh);
   const DeviceBuffer<RayF> d_rays{std::span<const RayF>(rays)};
-  DeviceBuffer<int> d_hits_per_ray(rays.size());
+  DeviceBuffer<HitTally> d_tallies(rays.size());
   const MeshView view = d_mesh.view();
   const RayF* ray_in = d_rays.data();
-  int* hits_out = d_hits_per_ray.data();
+  HitTally* tally_out = d_tallies.data();
   for_each_ray_gpu(static_cast<int>(rays.size()), [=] __device__(int i) {
-    hits_out[i] = count_hits(variant, view, ray_in[i]);
+    tally_out[i] = tally_hits(variant, view, ray_in[i]);
   });
-  return summarize(d_hits_per_ray.to_host());
+  return summarize(d_tallies.to_host());
 }
 
 LeakCount count_leaks_cpu(TriangleVariant variant, const Mesh& mesh,
                           const std::vector<RayF>& rays) {
-  std::vector<int> hits_per_ray(rays.size());
+  std::vector<HitTally> tallies(rays.size());
   const MeshView view = host_view(mesh);
   for_each_ray_cpu(static_cast<int>(rays.size()),
-                   [&](int i) { hits_per_ray[i] = count_hits(variant, view, rays[i]); });
-  return summarize(hits_per_ray);
+                   [&](int i) { tallies[i] = tally_hits(variant, view, rays[i]); });
+  return summarize(tallies);
 }
 
 } // namespace rt::ch04

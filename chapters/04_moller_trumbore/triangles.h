@@ -61,18 +61,29 @@ RT_HD inline MeshHit closest_hit(TriangleVariant variant, MeshView mesh, RayF ra
 }
 
 // How many triangles accept the ray: 0 from inside a closed mesh is a leak, 2 or more (at a
-// shared edge or vertex) a double hit.
-RT_HD inline int count_hits(TriangleVariant variant, MeshView mesh, RayF ray) {
+// shared edge or vertex) a double hit. An accepted hit whose t, u or v is not finite would
+// poison whatever shades it: those are counted too.
+struct HitTally {
   int hits = 0;
-  for (int i = 0; i < mesh.triangle_count; ++i)
-    hits += intersect_triangle(variant, ray, mesh.triangle(i)).hit ? 1 : 0;
-  return hits;
+  int non_finite = 0;
+};
+
+RT_HD inline HitTally tally_hits(TriangleVariant variant, MeshView mesh, RayF ray) {
+  HitTally tally;
+  for (int i = 0; i < mesh.triangle_count; ++i) {
+    const TriangleHitF hit = intersect_triangle(variant, ray, mesh.triangle(i));
+    if (!hit.hit) continue;
+    ++tally.hits;
+    if (!is_finite(hit.t) || !is_finite(hit.u) || !is_finite(hit.v)) ++tally.non_finite;
+  }
+  return tally;
 }
 
 struct LeakCount {
   long long rays = 0;        // rays fired from inside
   long long leaks = 0;       // rays no triangle accepted
   long long double_hits = 0; // rays two or more triangles accepted
+  long long non_finite = 0;  // rays with an accepted hit whose t, u or v is NaN or infinite
 };
 
 std::vector<MeshHit> closest_hits_gpu(TriangleVariant variant, const Mesh& mesh,

@@ -274,6 +274,7 @@ TEST_CASE("rays from inside closed meshes, aimed at vertices and edges: watertig
                   configuration.name, to_string(variant), count.rays, count.leaks,
                   count.double_hits, seconds);
       CAPTURE(configuration.name, to_string(variant), count.leaks, count.double_hits);
+      CHECK(count.non_finite == 0);
       CHECK(count.rays == k_rays);
       if (variant == TriangleVariant::watertight)
         CHECK(count.leaks == 0);

@@ -100,6 +100,7 @@ TEST_CASE("GPU watertight test never leaks with nvcc's default FMA contraction",
                   configuration.name, to_string(variant), count.rays, count.leaks,
                   count.double_hits);
       CAPTURE(configuration.name, to_string(variant), count.leaks, count.double_hits);
+      CHECK(count.non_finite == 0);
       CHECK(count.rays == k_rays);
       if (variant == TriangleVariant::watertight) CHECK(count.leaks == 0);
     }
