@@ -34,6 +34,12 @@ mkdir -p "$img"
 "$bin/ch05_obj_loading" --headless --backend cpu --width 480 --height 270 \
   --reference-pixels 2000 --scaling-max -1 --output "$img/05_model.png" >/dev/null
 
+# Chapter 06: the built-in scene at 480x270, flat and smooth shading (shadows on).
+"$bin/ch06_lambertian_shading" --headless --backend cpu --width 480 --height 270 --shading flat \
+  --image-only --output "$img/06_flat.png" >/dev/null
+"$bin/ch06_lambertian_shading" --headless --backend cpu --width 480 --height 270 \
+  --shading smooth --image-only --output "$img/06_smooth.png" >/dev/null
+
 # Error-against-run-time plots, from the reports measured on a GPU machine (book/data/, written
 # by tools/gpu/run.sh's --json runs and copied there).
 python3 tools/plot-report.py --metric max_relative_t_error --ylabel "max relative t error" \

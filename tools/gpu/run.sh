@@ -86,6 +86,7 @@ for exe in build/native/bin/ch*; do
   extra=()
   [ "$name" = ch04_moller_trumbore ] && extra=(--leak-rays 20000)
   [ "$name" = ch05_obj_loading ] && extra=(--scene assets/smooth_torus.obj.gz --scaling-max 2)
+  [ "$name" = ch06_lambertian_shading ] && extra=(--skip-cpu)
   step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
     "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
     --output "$logdir/$name-memcheck.png"
