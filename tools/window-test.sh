@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs chapters 02 to 05 in a real window and checks each screenshot against the
+# Runs chapters 02 to 06 in a real window and checks each screenshot against the
 # headless output of the same frame, pixel for pixel (same pixels give byte-identical PNGs).
 #   tools/window-test.sh BUILD_DIR OUT_DIR [PATH...]    (paths: interop copy cpu; default cpu)
 # With RT_WINDOW_REPORT=gpu (or cpu) it also runs the window report of every path at the
@@ -38,11 +38,12 @@ for path in "${paths[@]}"; do
   compare "ch02 $path" "$out/window-$path.png" "$out/headless-$path.png"
   # Chapters 03 and 04 open the interactive viewer: interop on the GPU, upload on the CPU.
   [ "$path" = copy ] && continue
-  for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading; do
+  for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading ch06_lambertian_shading; do
     [ -x "$build/bin/$chapter" ] || continue
     extra=()
     scene=()
     [ "$chapter" = ch04_moller_trumbore ] && extra=(--leak-rays 1000)
+    [ "$chapter" = ch06_lambertian_shading ] && extra=(--image-only)
     if [ "$chapter" = ch05_obj_loading ]; then # the small room: brute force on 100k is slow
       scene=(--scene "$(dirname "$0")/../assets/cornell_room.obj.gz")
       extra=(--scaling-max -1)
