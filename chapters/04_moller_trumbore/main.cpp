@@ -17,6 +17,7 @@
 #include "rt/cli.h"
 #include "rt/report.h"
 #include "rt/timer.h"
+#include "variant_cli.h"
 #include "viewer.h"
 #include "window_loop.h"
 
@@ -242,13 +243,7 @@ int main(int argc, char** argv) {
   app.add_option("--leak-rays", options.leak_rays, "Rays per leak configuration")
       ->check(CLI::Range(1, 100'000'000))
       ->capture_default_str();
-  app.add_option("--variant", options.image_variant, "Intersection used for the image")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, TriangleVariant>{
-              {"moller-trumbore", TriangleVariant::moller_trumbore},
-              {"watertight", TriangleVariant::watertight}},
-          CLI::ignore_case))
-      ->default_str("watertight");
+  add_triangle_variant_option(app, options.image_variant);
   ch03::add_display_options(app, options.display);
   return run_main(app, argc, argv, [&] {
     if (!options.common.output.empty()) check_image_path(options.common.output);

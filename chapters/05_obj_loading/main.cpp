@@ -20,6 +20,7 @@
 #include "rt/cli.h"
 #include "rt/report.h"
 #include "rt/timer.h"
+#include "variant_cli.h"
 #include "viewer.h"
 #include "window_loop.h"
 
@@ -419,13 +420,7 @@ int main(int argc, char** argv) {
                  "Largest icosphere of the brute-force rows: 20 * 4^N triangles; -1: none")
       ->check(CLI::Range(-1, 7))
       ->capture_default_str();
-  app.add_option("--variant", options.image_variant, "Intersection used for the image")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, TriangleVariant>{
-              {"moller-trumbore", TriangleVariant::moller_trumbore},
-              {"watertight", TriangleVariant::watertight}},
-          CLI::ignore_case))
-      ->default_str("watertight");
+  ch04::add_triangle_variant_option(app, options.image_variant);
   ch03::add_display_options(app, options.display);
   app.footer(app.get_footer() + " Brute force on the CPU takes seconds per frame for large "
                                 "models: try the window there with --scene " RT_ASSETS_DIR
