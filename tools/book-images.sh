@@ -40,6 +40,13 @@ mkdir -p "$img"
 "$bin/ch06_lambertian_shading" --headless --backend cpu --width 480 --height 270 \
   --shading smooth --image-only --output "$img/06_smooth.png" >/dev/null
 
+# ...and a model loaded from a file, with its own vertex normals.
+for shading in flat smooth; do
+  "$bin/ch06_lambertian_shading" --headless --backend cpu --width 480 --height 270 \
+    --scene assets/smooth_torus.obj.gz --eye 0,3.2,3.2 --target 0,0,0 --shading "$shading" \
+    --image-only --output "$img/06_torus_$shading.png" >/dev/null
+done
+
 # Error-against-run-time plots, from the reports measured on a GPU machine (book/data/, written
 # by tools/gpu/run.sh's --json runs and copied there).
 python3 tools/plot-report.py --metric max_relative_t_error --ylabel "max relative t error" \
