@@ -10,29 +10,6 @@
 namespace rt::ch04 {
 namespace {
 
-// The nearest triangle in precision T (the float64 reference converts each float vertex).
-template <class T> struct NearestTriangle {
-  T t = std::numeric_limits<T>::infinity();
-  int index = -1;
-  Vec3<T> normal{}; // geometric, not normalised
-};
-
-template <class T>
-RT_HD NearestTriangle<T> nearest_triangle(TriangleVariant variant, MeshView mesh, Ray<T> ray) {
-  NearestTriangle<T> nearest;
-  for (int i = 0; i < mesh.triangle_count; ++i) {
-    const IndexedTriangle k = mesh.triangles[i];
-    const Triangle<T> tri{mesh.vertices[k.v0].as<T>(), mesh.vertices[k.v1].as<T>(),
-                          mesh.vertices[k.v2].as<T>()};
-    const TriangleHit<T> hit = intersect_triangle(variant, ray, tri);
-    if (hit.hit) {
-      nearest = {hit.t, i, cross(tri.v1 - tri.v0, tri.v2 - tri.v0)};
-      ray.tmax = hit.t;
-    }
-  }
-  return nearest;
-}
-
 RT_HD inline Vec3f object_colour(int object) {
   switch (object) {
   case 0:

@@ -20,30 +20,8 @@ namespace rt::ch05 {
 namespace {
 
 using ch04::MeshView;
-
-// The nearest triangle in precision T (the float64 reference converts each float vertex).
-template <class T> struct NearestTriangle {
-  T t = std::numeric_limits<T>::infinity();
-  int index = -1;
-  Vec3<T> normal{}; // geometric, not normalised
-};
-
-template <class T>
-RT_HD NearestTriangle<T> nearest_triangle(TriangleVariant variant, MeshView mesh,
-                                          ch03::Ray<T> ray) {
-  NearestTriangle<T> nearest;
-  for (int i = 0; i < mesh.triangle_count; ++i) { // brute force: every triangle
-    const ch04::IndexedTriangle k = mesh.triangles[i];
-    const ch04::Triangle<T> tri{mesh.vertices[k.v0].as<T>(), mesh.vertices[k.v1].as<T>(),
-                                mesh.vertices[k.v2].as<T>()};
-    const ch04::TriangleHit<T> hit = ch04::intersect_triangle(variant, ray, tri);
-    if (hit.hit) {
-      nearest = {hit.t, i, cross(tri.v1 - tri.v0, tri.v2 - tri.v0)};
-      ray.tmax = hit.t;
-    }
-  }
-  return nearest;
-}
+using ch04::nearest_triangle;
+using ch04::NearestTriangle;
 
 // A colour per material id from a fixed palette (the first four fit the Cornell room's
 // white, red, green and light); -1, a face without a material, is clay. The .mtl's own
