@@ -234,7 +234,7 @@ int main(int argc, char** argv) {
   ch03::add_camera_options(app, options.camera);
   app.add_option("--translate", options.translate,
                  "Move the scene and the camera by this much along x, y and z")
-      ->check(CLI::Range(-1e7, 1e7))
+      ->check(finite_range(-1e7, 1e7))
       ->capture_default_str();
   app.add_option("--subdivisions", options.subdivisions,
                  "Icosphere subdivisions (20 * 4^n triangles)")

@@ -341,7 +341,7 @@ int main(int argc, char** argv) {
                  "OBJ file to render (.obj or gzip'd); default: the built-in scene")
       ->check(CLI::ExistingFile);
   app.add_option("--scale", options.scale, "Scale the built-in scene and its camera by this")
-      ->check(CLI::Range(1e-6, 1e7))
+      ->check(finite_range(1e-6, 1e7))
       ->capture_default_str();
   app.add_option("--subdivisions", options.subdivisions,
                  "Built-in icosphere's subdivisions (20 * 4^n triangles)")

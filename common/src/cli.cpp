@@ -10,6 +10,19 @@
 
 namespace rt {
 
+CLI::Validator finite_range(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "not a number: " + text;
+        if (!(value >= lo && value <= hi))
+          return "Value " + text + " not a finite number in range " +
+                 CLI::detail::to_string(lo) + " to " + CLI::detail::to_string(hi);
+        return {};
+      },
+      "FINITE in [" + CLI::detail::to_string(lo) + " - " + CLI::detail::to_string(hi) + "]");
+}
+
 void add_common_options(CLI::App& app, CommonOptions& options) {
   const auto side = CLI::Range(1, k_max_image_side);
   app.add_option("--width", options.width, "Image width in pixels")

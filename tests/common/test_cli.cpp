@@ -104,3 +104,28 @@ TEST_CASE("backend resolution follows the machine", "[common]") {
   }
   CHECK(cpu_thread_count() >= 1);
 }
+
+TEST_CASE("finite_range refuses NaN, infinities and values outside the range", "[common]") {
+  auto accepts = [](const std::string& value) {
+    CLI::App app{"test", "prog"};
+    double x = 0.0;
+    app.add_option("--x", x)->check(finite_range(-10.0, 10.0));
+    std::vector<std::string> args{"prog", "--x", value};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    try {
+      app.parse(int(argv.size()), argv.data());
+    } catch (const CLI::ParseError&) {
+      return false;
+    }
+    return true;
+  };
+  CHECK(accepts("3.5"));
+  CHECK(accepts("-10"));
+  CHECK(accepts("10"));
+  CHECK_FALSE(accepts("nan"));
+  CHECK_FALSE(accepts("inf"));
+  CHECK_FALSE(accepts("-inf"));
+  CHECK_FALSE(accepts("10.5"));
+  CHECK_FALSE(accepts("x"));
+}

@@ -25,6 +25,10 @@ struct CommonOptions {
   Extent extent() const { return {width, height}; }
 };
 
+// A check for a floating-point option: a finite number in [lo, hi]. (CLI::Range alone lets
+// NaN through, since every comparison with NaN is false.)
+CLI::Validator finite_range(double lo, double hi);
+
 // Adds --width, --height, --output, --backend, --frames and --json to `app`.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
