@@ -21,14 +21,18 @@ using ch04::MeshView;
 
 // The scene as per-ray code reads it: host pointers on the CPU, device pointers on the GPU.
 // Arrays a kernel's features do not read may be null.
-struct SceneView {
-  MeshView mesh;                         // positions and triangles
+template <class Geometry> struct SceneViewOf {
+  Geometry mesh;                         // positions and triangles (and what traces them)
   const std::uint8_t* material;          // per triangle: its slot in the palette
   const Vec3f* normals;                  // vertex normals: smooth shading only
   const IndexedTriangle* normal_indices; // per triangle, into normals: smooth shading only
   Palette palette;                       // albedo per slot
   Lights lights;                         // by value
 };
+// This chapter traces every ray against every triangle of a MeshView (brute force). A later
+// chapter passes its own geometry type with its own closest_surface, occluded and triangle_as:
+// the shading below calls them unqualified, so the geometry's namespace provides them.
+using SceneView = SceneViewOf<MeshView>;
 
 template <class T> struct SurfaceHit {
   T t = std::numeric_limits<T>::infinity();
@@ -77,8 +81,8 @@ template <class T> RT_HD Vec3<T> unit_or(Vec3<T> v, Vec3<T> fallback) {
 // [/listing:unit_or]
 
 // The vertex normals blended with the hit's barycentrics, not yet unit length.
-template <class T>
-RT_HD Vec3<T> interpolated_normal(const SceneView& scene, const SurfaceHit<T>& hit) {
+template <class T, class S>
+RT_HD Vec3<T> interpolated_normal(const S& scene, const SurfaceHit<T>& hit) {
   const IndexedTriangle k = scene.normal_indices[hit.triangle];
   const T w = T(1) - hit.u - hit.v;
   return scene.normals[k.v0].template as<T>() * w +
@@ -111,8 +115,8 @@ template <class T> RT_HD Vec3<T> faced(Vec3<T> n, Vec3<T> side) {
 // along the facets. Lifting p by its depth below the plane across each vertex normal, blended
 // like the normals, starts shadow rays near the smooth surface instead.
 // [listing:shadow_terminator]
-template <class T>
-RT_HD Vec3<T> lifted_point(const SceneView& scene, const ch04::Triangle<T>& tri,
+template <class T, class S>
+RT_HD Vec3<T> lifted_point(const S& scene, const ch04::Triangle<T>& tri,
                            const SurfaceHit<T>& hit, Vec3<T> p, Vec3<T> geometric) {
   const IndexedTriangle k = scene.normal_indices[hit.triangle];
   const Vec3<T> vertex[3] = {tri.v0, tri.v1, tri.v2};
@@ -130,9 +134,9 @@ RT_HD Vec3<T> lifted_point(const SceneView& scene, const ch04::Triangle<T>& tri,
 // [/listing:shadow_terminator]
 
 // [listing:shading_point]
-template <class T, class F>
-RT_HD ShadingPoint<T> shading_point(const SceneView& scene, const Ray<T>& ray,
-                                    const SurfaceHit<T>& hit, F features) {
+template <class T, class F, class S>
+RT_HD ShadingPoint<T> shading_point(const S& scene, const Ray<T>& ray, const SurfaceHit<T>& hit,
+                                    F features) {
   const ch04::Triangle<T> tri = triangle_as<T>(scene.mesh, hit.triangle);
   const Vec3<T> d = normalize(ray.direction);
   // A sliver the watertight test accepts may have no float normal: face the viewer then.
@@ -156,8 +160,8 @@ RT_HD ShadingPoint<T> shading_point(const SceneView& scene, const Ray<T>& ray,
 // Whether a light reaches the surface: always without shadows, else when the shadow ray from
 // `origin` along `to_light` meets nothing before tmax (where the light is).
 // [listing:light_reaches]
-template <class T, class F>
-RT_HD bool light_reaches(const SceneView& scene, Vec3<T> origin, Vec3<T> to_light, T tmax,
+template <class T, class F, class S>
+RT_HD bool light_reaches(const S& scene, Vec3<T> origin, Vec3<T> to_light, T tmax,
                          Vec3<T> geometric, F features, ShadedSample<T>& sample) {
   if constexpr (F::compiled(k_shadows)) {
     if (features.on(k_shadows)) {
@@ -176,8 +180,8 @@ RT_HD bool light_reaches(const SceneView& scene, Vec3<T> origin, Vec3<T> to_ligh
 // Irradiance at the point: ambient, plus each light that reaches it, weighted by Lambert's
 // cosine. Shadow rays start off the surface by chapter 03's scale-aware offset, on the
 // viewer's side of the face.
-template <class T, class F>
-RT_HD Vec3<T> irradiance(const SceneView& scene, const ShadingPoint<T>& point, F features,
+template <class T, class F, class S>
+RT_HD Vec3<T> irradiance(const S& scene, const ShadingPoint<T>& point, F features,
                          ShadedSample<T>& sample) {
   const Lights& lights = scene.lights;
   const Vec3<T> p = point.position, n = point.shading;
@@ -213,8 +217,8 @@ RT_HD Vec3<T> irradiance(const SceneView& scene, const ShadingPoint<T>& point, F
 // [/listing:direct_light]
 
 // [listing:shade_ray]
-template <class T, class F>
-RT_HD ShadedSample<T> shade_ray(const SceneView& scene, const Ray<T>& ray, F features) {
+template <class T, class F, class S>
+RT_HD ShadedSample<T> shade_ray(const S& scene, const Ray<T>& ray, F features) {
   ShadedSample<T> sample;
   const Vec3<T> d = normalize(ray.direction);
   const SurfaceHit<T> hit = closest_surface(scene.mesh, ray);

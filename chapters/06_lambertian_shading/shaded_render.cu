@@ -12,25 +12,7 @@
 namespace rt::ch06 {
 namespace {
 
-// Everything a frame needs besides the features: a kernel argument.
-struct FrameLaunch {
-  SceneView scene;
-  ch03::Camera<float> camera;
-  Extent extent;
-  Rgba8* pixels;
-  ShadedPixelRecord* records; // may be null
-};
-
-template <class F> RT_HD void shade_pixel(const FrameLaunch& frame, F features, int x, int y) {
-  const ShadedSample<float> sample =
-      shade_ray(frame.scene, frame.camera.ray_through_pixel(x, y), features);
-  const int index = y * frame.extent.width + x;
-  frame.pixels[index] = ch03::to_rgba8(sample.colour);
-  if (frame.records != nullptr)
-    frame.records[index] = {sample.triangle, static_cast<std::uint8_t>(sample.shadow_rays),
-                            static_cast<std::uint8_t>(sample.shadowed_facing),
-                            static_cast<std::uint8_t>(ch03::has_nan(sample.colour) ? 1 : 0)};
-}
+using FrameLaunch = FrameLaunchOf<SceneView>;
 
 // [listing:shade_kernel]
 // The chapter's own kernel rather than chapter 01's for_each_pixel: its address, one per

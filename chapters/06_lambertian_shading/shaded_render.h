@@ -11,6 +11,7 @@
 #include "rt/backend.h"
 #include "rt/device_buffer.h"
 #include "rt/image.h"
+#include "shaded_frame.h"
 #include "shaded_scene.h"
 
 namespace rt::ch06 {
@@ -41,15 +42,6 @@ private:
 inline unsigned uploaded_features(KernelKind kind, unsigned features) {
   return kind == KernelKind::specialised ? features : k_all_features;
 }
-
-// What the primary ray and its shadow rays found in a pixel: 8 bytes.
-struct ShadedPixelRecord {
-  std::int32_t triangle;        // the primary hit, -1 for none
-  std::uint8_t shadow_rays;     // traced (one per light at most)
-  std::uint8_t shadowed_facing; // blocked although the face itself faces the light
-  std::uint8_t nan;             // 1 if the colour came out NaN
-};
-static_assert(sizeof(ShadedPixelRecord) == 8);
 
 // Renders a frame of `scene` (device pointers on the GPU backend, host pointers on the CPU)
 // into pixels and, if not null, records, both in the backend's memory. `features` is what the
