@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Runs chapters 02 to 06 in a real window and checks each screenshot against the
+# Runs chapters 02 to 07 in a real window and checks each screenshot against the
 # headless output of the same frame, pixel for pixel (same pixels give byte-identical PNGs).
 #   tools/window-test.sh BUILD_DIR OUT_DIR [PATH...]    (paths: interop copy cpu; default cpu)
+#   tools/window-test.sh BUILD_DIR OUT_DIR --model FILE  (a model file in the viewers of the
+#                                                        shading chapters, on the GPU)
 # With RT_WINDOW_REPORT=gpu (or cpu) it also runs the window report of every path at the
 # default size, for the book's table.
 # Without a DISPLAY it starts a virtual X server (Xvfb) for the run.
@@ -29,6 +31,19 @@ compare() { # compare NAME WINDOW_PNG HEADLESS_PNG
     echo "window-test: $1: screenshot DIFFERS from the headless frame"; status=1
   fi
 }
+if [ "${1:-}" = --model ]; then
+  model="$2"
+  name=$(basename "$model" .obj.gz)
+  for chapter in ch06_lambertian_shading ch07_bvh; do
+    [ -x "$build/bin/$chapter" ] || continue
+    "$build/bin/$chapter" --window --backend gpu --frames 5 --width 320 --height 181 \
+      --scene "$model" --output "$out/window-$chapter-$name.png" --json "$out/window-$chapter-$name.json"
+    "$build/bin/$chapter" --headless --backend gpu --image-only --width 320 --height 181 \
+      --scene "$model" --output "$out/headless-$chapter-$name.png" >/dev/null
+    compare "$chapter $name" "$out/window-$chapter-$name.png" "$out/headless-$chapter-$name.png"
+  done
+  exit $status
+fi
 for path in "${paths[@]}"; do
   [ "$path" = cpu ] && backend=cpu || backend=gpu
   "$exe" --window --backend "$backend" --path "$path" --frames $frames --width 320 --height 181 \

@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
-# Downloads what an offline GPU machine needs into one folder (default: .gpu-debs), to be
-# copied over; tools/gpu/run.sh unpacks it there into private prefixes (nothing is installed
-# system-wide):
-#   - the Debian packages of tools/gpu/debs.txt (build dependencies and their libraries);
-#   - x11.tar.xz: the packages of tools/gpu/x11-debs.txt (a virtual X server with GLX for the
-#     window test), unpacked here and packed again without documentation, in one archive small
-#     enough to travel. Rebuilt only when that list changes (xz -9 takes a few minutes).
+# Downloads what an offline GPU machine needs into two folders (default: .gpu-debs and
+# .gpu-x11), to be copied over; tools/gpu/run.sh unpacks them there into private prefixes
+# (nothing is installed system-wide):
+#   - .gpu-debs: the Debian packages of tools/gpu/debs.txt (build dependencies, libraries);
+#   - .gpu-x11/x11.tar.xz: the packages of tools/gpu/x11-debs.txt (a virtual X server with
+#     GLX for the window test), unpacked here and packed again without documentation, in one
+#     archive small enough to travel. Rebuilt only when that list changes (xz -9 takes a few minutes).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 dest="$(realpath -m "${1:-$root/.gpu-debs}")"
-mkdir -p "$dest"
+x11_dest="$(realpath -m "${2:-$root/.gpu-x11}")"
+mkdir -p "$dest" "$x11_dest"
 package_list() { grep -v '^#' "$1" | grep -v '^[[:space:]]*$'; }
 lists=$(mktemp -d)
 work=$(mktemp -d)
@@ -24,7 +25,7 @@ echo "downloaded ${#packages[@]} packages into $dest"
 
 x11_list="$root/tools/gpu/x11-debs.txt"
 stamp="$(sha256sum "$x11_list" | cut -d' ' -f1)"
-if [ -f "$dest/x11.tar.xz" ] && [ "$(cat "$dest/x11.stamp" 2>/dev/null)" = "$stamp" ]; then
+if [ -f "$x11_dest/x11.tar.xz" ] && [ "$(cat "$x11_dest/x11.stamp" 2>/dev/null)" = "$stamp" ]; then
   echo "x11.tar.xz is up to date"
   exit 0
 fi
@@ -33,6 +34,6 @@ mkdir -p "$work/debs" "$work/root"
 (cd "$work/debs" && apt-get "${opts[@]}" download "${x11_packages[@]}")
 for deb in "$work"/debs/*.deb; do dpkg-deb -x "$deb" "$work/root"; done
 rm -rf "$work"/root/usr/share/{doc,man,locale,lintian,bug} "$work/root/usr/include"
-tar -C "$work/root" -cf - . | xz -9 -T0 >"$dest/x11.tar.xz"
-echo "$stamp" >"$dest/x11.stamp"
-echo "packed ${#x11_packages[@]} packages into $dest/x11.tar.xz ($(du -h "$dest/x11.tar.xz" | cut -f1))"
+tar -C "$work/root" -cf - . | xz -9 -T0 >"$x11_dest/x11.tar.xz"
+echo "$stamp" >"$x11_dest/x11.stamp"
+echo "packed ${#x11_packages[@]} packages into $x11_dest/x11.tar.xz ($(du -h "$x11_dest/x11.tar.xz" | cut -f1))"

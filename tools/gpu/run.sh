@@ -5,8 +5,15 @@
 #
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
-# Offline machines: run tools/gpu/fetch-debs.sh where there is internet, copy .gpu-debs/ along;
-# this script unpacks it into a private prefix (RT_PREFIX, default /tmp/rt-prefix).
+# RT_STEPS picks what runs after the build (default: all of them, in this order):
+#   tests memcheck reports window models bench
+# `models` renders the real models of RT_MODELS (default: ../shared/models beside the checkout,
+# else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
+# the window; `bench` runs chapter 07's benchmark protocol on them.
+#
+# Offline machines: run tools/gpu/fetch-debs.sh where there is internet, copy .gpu-debs/ (and
+# .gpu-x11/ for the window test) along; this script unpacks them into private prefixes
+# (RT_PREFIX, default /tmp/rt-prefix).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
@@ -14,6 +21,12 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
+steps=" ${RT_STEPS:-tests memcheck reports window models bench} "
+wanted() { [[ "$steps" == *" $1 "* ]]; }
+models="${RT_MODELS:-}"
+if [ -z "$models" ]; then
+  if [ -d "$root/../shared/models" ]; then models="$root/../shared/models"; else models="$root/.gpu-models"; fi
+fi
 step() { # step NAME COMMAND...: runs a command, logs it, remembers a failure
   local name=$1; shift
   echo "== $name: $*"
@@ -40,13 +53,14 @@ if [ -d "$debs" ]; then
   export CPATH="$prefix/usr/include/x86_64-linux-gnu${CPATH:+:$CPATH}"
   cmake_args+=("-DCMAKE_PREFIX_PATH=$prefix/usr")
 fi
-if [ -f "$debs/x11.tar.xz" ] && ! command -v Xvfb >/dev/null; then
+x11_debs="${RT_X11_DEBS:-$root/.gpu-x11}"
+if [ -f "$x11_debs/x11.tar.xz" ] && ! command -v Xvfb >/dev/null; then
   # A virtual X server for the window test, in its own prefix; only the server sees its
   # libraries. Xvfb looks for its GL driver, keyboard data and keyboard compiler at fixed
   # system paths: link them there where this machine has nothing of its own.
   x11="${RT_X11_PREFIX:-/tmp/rt-x11}"
   mkdir -p "$x11/wrap"
-  xz -dc "$debs/x11.tar.xz" | tar -C "$x11" -xf -
+  xz -dc "$x11_debs/x11.tar.xz" | tar -C "$x11" -xf -
   x11_libs="$x11/usr/lib/x86_64-linux-gnu:$x11/lib/x86_64-linux-gnu:${LD_LIBRARY_PATH:-}"
   printf '#!/bin/sh\nLD_LIBRARY_PATH="%s" exec "%s" "$@"\n' "$x11_libs" "$x11/usr/bin/Xvfb" \
     >"$x11/wrap/Xvfb"
@@ -79,33 +93,71 @@ step build cmake --build --preset native
 [ $status -eq 0 ] || exit $status
 shopt -s nullglob
 export RT_SYNC_CHECK=1
-step tests ctest --preset native --output-junit "$logdir/ctest.xml"
+# RT_CTEST_ARGS narrows the tests (e.g. "-L ch07").
+wanted tests && step tests ctest --preset native --output-junit "$logdir/ctest.xml" ${RT_CTEST_ARGS:-}
 
-for exe in build/native/bin/ch*; do
-  name=$(basename "$exe")
-  extra=()
-  [ "$name" = ch04_moller_trumbore ] && extra=(--leak-rays 20000)
-  [ "$name" = ch05_obj_loading ] && extra=(--scene assets/smooth_torus.obj.gz --scaling-max 2)
-  [ "$name" = ch06_lambertian_shading ] && extra=(--skip-cpu)
-  step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
-    "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
-    --output "$logdir/$name-memcheck.png"
-done
+if wanted memcheck; then
+  for exe in build/native/bin/ch*; do
+    name=$(basename "$exe")
+    extra=()
+    [ "$name" = ch04_moller_trumbore ] && extra=(--leak-rays 20000)
+    [ "$name" = ch05_obj_loading ] && extra=(--scene assets/smooth_torus.obj.gz --scaling-max 2)
+    [ "$name" = ch06_lambertian_shading ] && extra=(--skip-cpu)
+    [ "$name" = ch07_bvh ] && extra=(--skip-cpu)
+    step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
+      "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
+      --output "$logdir/$name-memcheck.png"
+  done
+fi
 unset RT_SYNC_CHECK
 
-for exe in build/native/bin/ch*; do
-  name=$(basename "$exe")
-  step "report_$name" "$exe" --backend gpu --output "$logdir/$name.png" --json "$logdir/$name.json"
-  cat "$logdir/report_$name.log"
-done
-if command -v Xvfb >/dev/null; then # chapter 02's window, on the GPU's own OpenGL
-  step window_test env __GLX_VENDOR_LIBRARY_NAME=nvidia RT_WINDOW_REPORT=gpu \
-    LD_LIBRARY_PATH="${window_libs:-${LD_LIBRARY_PATH:-}}" \
-    tools/window-test.sh build/native "$logdir/window" interop copy cpu
-  grep -v "^wrote" "$logdir/window_test.log" || true
-  [ -s "$logdir/window/xvfb.log" ] && tail -20 "$logdir/window/xvfb.log"
-else
-  echo "== window_test: skipped, no Xvfb on this machine (chapter 02's window is not tested)"
+if wanted reports; then
+  for exe in build/native/bin/ch*; do
+    name=$(basename "$exe")
+    step "report_$name" "$exe" --backend gpu --output "$logdir/$name.png" --json "$logdir/$name.json"
+    cat "$logdir/report_$name.log"
+  done
 fi
-grep -h -E "tests passed|tests failed" "$logdir/tests.log"
+
+have_x=0
+command -v Xvfb >/dev/null && have_x=1
+window_env=(env __GLX_VENDOR_LIBRARY_NAME=nvidia LD_LIBRARY_PATH="${window_libs:-${LD_LIBRARY_PATH:-}}")
+if wanted window; then
+  if [ $have_x = 1 ]; then # the chapters' windows, on the GPU's own OpenGL
+    step window_test "${window_env[@]}" RT_WINDOW_REPORT=gpu \
+      tools/window-test.sh build/native "$logdir/window" interop copy cpu
+    grep -v "^wrote" "$logdir/window_test.log" || true
+    [ -s "$logdir/window/xvfb.log" ] && tail -20 "$logdir/window/xvfb.log"
+  else
+    echo "== window_test: skipped, no Xvfb on this machine (the windows are not tested)"
+  fi
+fi
+
+# The real models: every one loads, renders and reports on the GPU, headless; with a virtual X
+# server, each also opens the viewer for a few frames of chapter 06.
+if wanted models && [ -d "$models" ]; then
+  mkdir -p "$logdir/models"
+  for model in "$models"/*.obj.gz; do
+    name=$(basename "$model" .obj.gz)
+    step "model_ch05_$name" build/native/bin/ch05_obj_loading --backend gpu --scene "$model" \
+      --width 320 --height 180 --frames 1 --reference-pixels 64 --scaling-max 1 \
+      --output "$logdir/models/ch05-$name.png"
+    # Chapter 06's report renders a float64 image on the CPU by brute force: the image only.
+    step "model_ch06_$name" build/native/bin/ch06_lambertian_shading --backend gpu \
+      --scene "$model" --image-only --width 320 --height 180 \
+      --output "$logdir/models/ch06-$name.png"
+    if [ $have_x = 1 ]; then
+      step "model_window_ch06_$name" "${window_env[@]}" tools/window-test.sh build/native \
+        "$logdir/models/window-$name" --model "$model"
+    fi
+  done
+  grep -h -E "^ch0|wrote|differ" "$logdir"/model_*.log | head -80
+fi
+# Chapter 07's benchmark protocol on the benchmark set (kernel-only Mrays/s, build, frame).
+if wanted bench && [ -d "$models" ] && [ -x build/native/bin/ch07_bvh ]; then
+  step bench build/native/bin/ch07_bvh --backend gpu --benchmark --models "$models" \
+    --json "$logdir/bench.json"
+  cat "$logdir/bench.log"
+fi
+grep -h -E "tests passed|tests failed" "$logdir/tests.log" 2>/dev/null
 exit $status
