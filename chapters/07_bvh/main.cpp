@@ -1,0 +1,646 @@
+// Chapter 07: the bounding volume hierarchy. By default it loads a ~100k-triangle model (the
+// course's torus knot, or any OBJ file with --scene), builds the tree by median split and by
+// SAH, and traces the camera's rays through each against brute force and a float64 reference,
+// then renders chapter 06's shading through the tree. Other modes:
+//   --window                       the interactive viewer, shaded through the tree
+//   --rays FILE --hits FILE        any batch of rays from a file, hits to a file
+//   --dump-hits FILE --ray-type T  the benchmark protocol's rays for one view, hits to a file
+//   --benchmark [SCENE...]         the benchmark protocol (default: the benchmark set)
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "benchmark.h"
+#include "bvh_build.h"
+#include "bvh_render.h"
+#include "bvh_trace.h"
+#include "camera_cli.h"
+#include "model_render.h"
+#include "obj_loader.h"
+#include "protocol.h"
+#include "ray_io.h"
+#include "rt/backend_image.h"
+#include "rt/cli.h"
+#include "rt/report.h"
+#include "rt/timer.h"
+#include "shaded_render.h"
+#include "variant_cli.h"
+#include "viewer.h"
+#include "window_loop.h"
+
+namespace {
+
+using namespace rt;
+using namespace rt::ch07;
+using ch04::MeshHit;
+using ch04::TriangleVariant;
+using ch06::ShadedScene;
+
+struct ChapterOptions {
+  CommonOptions common;
+  ch03::CameraSpec camera;
+  bool eye_given = false, target_given = false, fov_given = false, size_given = false;
+  std::string scene_path = RT_ASSETS_DIR "/torus_knot_100k.obj.gz";
+  BuildOptions build;
+  TriangleVariant variant = TriangleVariant::watertight;
+  bool smooth = true, shadows = true;
+  long long reference_pixels = 1024; // rays traced by the float64 reference
+  bool skip_cpu = false;
+  bool image_only = false;
+  ch03::DisplayChoice display;
+  // Ray queries from outside.
+  std::string rays_path, hits_path, dump_hits_path;
+  RayType ray_type = RayType::primary;
+  // The benchmark.
+  bool benchmark = false;
+  std::vector<std::string> benchmark_scenes;
+  std::string models_dir = RT_SHARED_MODELS_DIR;
+  bool end_to_end = true;
+};
+
+std::string fixed(double value, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", digits, value);
+  return text;
+}
+
+std::string scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1e", value);
+  return text;
+}
+
+// Every k-th ray of the frame, about `count` of them.
+std::vector<std::size_t> sample_indices(std::size_t total, long long count) {
+  std::vector<std::size_t> out;
+  const std::size_t step = std::max<std::size_t>(1, total / std::size_t(std::max(1LL, count)));
+  for (std::size_t i = 0; i < total; i += step) out.push_back(i);
+  return out;
+}
+
+// The float64 reference of a few rays: every triangle, in double, on the float rays.
+struct Reference {
+  std::vector<std::size_t> index; // which rays of the frame
+  std::vector<ch06::SurfaceHit<double>> hits;
+};
+
+Reference trace_reference(const ch04::Mesh& mesh, const std::vector<RayF>& rays,
+                          long long count) {
+  Reference ref{sample_indices(rays.size(), count), {}};
+  ref.hits.resize(ref.index.size());
+  const ch04::MeshView view = ch04::host_view(mesh);
+  for_each_pixel_cpu({static_cast<int>(ref.index.size()), 1}, [&](int k, int) {
+    ref.hits[k] = ch06::closest_surface(view, ch03::ray_as<double>(rays[ref.index[k]]));
+  });
+  return ref;
+}
+
+// Hits of the whole frame against the reference's few: triangles that differ, and the worst
+// relative error of t where the triangle is the same.
+std::string error_against(const Reference& ref, const std::vector<MeshHit>& hits,
+                          ReportRow& row) {
+  long long differ = 0;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < ref.index.size(); ++k) {
+    const MeshHit h = hits[ref.index[k]];
+    const ch06::SurfaceHit<double>& r = ref.hits[k];
+    if (h.triangle != r.triangle) {
+      ++differ;
+    } else if (r.triangle >= 0) {
+      worst = std::max(worst, std::abs(double(h.t) - r.t) / r.t);
+    }
+  }
+  row.metrics.emplace_back("reference_ids_differing", double(differ));
+  row.metrics.emplace_back("max_rel_t_error", worst);
+  return group_digits(differ) + " of " +
+         group_digits(static_cast<long long>(ref.index.size())) +
+         " ids differ from float64, max rel t err " + scientific(worst);
+}
+
+struct FrameRays {
+  std::vector<RayF> rays;
+  std::optional<DeviceBuffer<RayF>> device;
+};
+
+// One variant of the closest-hit search over the frame's rays.
+struct Traced {
+  std::vector<MeshHit> hits;
+  Timing timing;
+};
+
+Traced trace_frame(Backend backend, const std::function<void(MeshHit*)>& gpu_launch,
+                   const std::function<void(std::vector<MeshHit>&)>& cpu_run, std::size_t count,
+                   TimingPlan plan) {
+  Traced out;
+  out.hits.resize(count);
+  if (backend == Backend::gpu) {
+    DeviceBuffer<MeshHit> d_hits(count);
+    out.timing = time_gpu([&] { gpu_launch(d_hits.data()); }, plan);
+    d_hits.download(out.hits);
+  } else {
+    out.timing = time_cpu([&] { cpu_run(out.hits); }, plan);
+  }
+  return out;
+}
+
+// The chapter's report: brute force against the tree, median split against SAH, each timed
+// and checked against the float64 reference; then the shaded frame through the tree.
+void report_variants(const ChapterOptions& options, const std::vector<Backend>& backends,
+                     const ShadedScene& scene, const ch03::CameraSpec& spec, Report& report) {
+  const Extent extent = options.common.extent();
+  const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
+  const ch04::Mesh& mesh = scene.mesh;
+  FrameRays frame;
+  frame.rays.reserve(extent.pixel_count());
+  for (int y = 0; y < extent.height; ++y)
+    for (int x = 0; x < extent.width; ++x) frame.rays.push_back(camera.ray_through_pixel(x, y));
+  const Reference ref = trace_reference(mesh, frame.rays, options.reference_pixels);
+  const std::size_t count = frame.rays.size();
+  const TriangleVariant variant = options.variant;
+
+  std::vector<Bvh> trees;
+  for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
+    BuildOptions build = options.build;
+    build.method = method;
+    trees.push_back(build_bvh(mesh, build));
+    const BuildStats& s = trees.back().stats;
+    report.add_row({std::string("build, ") + to_string(method),
+                    "cpu",
+                    s.build_ms,
+                    double(mesh.triangles.size()) / (s.build_ms * 1e3),
+                    group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) +
+                        ", SAH cost " + fixed(s.sah_cost, 1) + ", " +
+                        fixed(s.bytes_per_triangle, 1) + " B/triangle (Mtriangles/s)",
+                    {{"nodes", double(s.nodes)},
+                     {"depth", double(s.depth)},
+                     {"sah_cost", s.sah_cost},
+                     {"bytes_per_triangle", s.bytes_per_triangle}}});
+  }
+
+  std::optional<std::vector<MeshHit>> brute_hits; // the GPU's brute force, all pixels
+  for (const Backend backend : backends) {
+    std::optional<DeviceBuffer<RayF>> d_rays;
+    std::optional<DeviceBuffer<Vec3f>> d_vertices;
+    std::optional<DeviceBuffer<ch04::IndexedTriangle>> d_triangles;
+    if (backend == Backend::gpu) {
+      ch05::check_device_memory(count * (sizeof(RayF) + 2 * sizeof(MeshHit)) +
+                                    trees.back().nodes.size() * sizeof(BvhNode) * 2 +
+                                    mesh.triangles.size() * 64,
+                                "the frame's rays and the trees");
+      d_rays.emplace(std::span<const RayF>(frame.rays));
+      d_vertices.emplace(std::span<const Vec3f>(mesh.vertices));
+      d_triangles.emplace(std::span<const ch04::IndexedTriangle>(mesh.triangles));
+      // Brute force: chapter 04's closest_hit for every ray. Slow: a few frames only.
+      const ch04::MeshView d_mesh{d_vertices->data(), d_triangles->data(),
+                                  int(mesh.triangles.size())};
+      const Traced brute =
+          trace_frame(backend,
+                      [&](MeshHit* hits) {
+                        brute_force_gpu(variant, d_mesh, d_rays->data(), int(count), hits);
+                      },
+                      {}, count, {1, options.common.frames > 0 ? options.common.frames : 3});
+      ReportRow row{"brute force (chapter 04)",
+                    "gpu",
+                    brute.timing.median_ms,
+                    double(count) / (brute.timing.median_ms * 1e3),
+                    "",
+                    {}};
+      row.error = error_against(ref, brute.hits, row) + "; " +
+                  group_digits(static_cast<long long>(mesh.triangles.size())) +
+                  " triangle tests per ray";
+      report.add_row(row);
+      brute_hits = brute.hits;
+    } else {
+      // On CPU cores brute force is too slow for a whole frame: it is timed on the reference's
+      // sampled rays, and the frame time extrapolated from them.
+      std::vector<RayF> sample;
+      for (const std::size_t i : ref.index) sample.push_back(frame.rays[i]);
+      std::vector<ch04::MeshHit> hits;
+      const Timing timing =
+          time_cpu([&] { hits = ch04::closest_hits_cpu(variant, mesh, sample); }, {0, 1});
+      const double ms_per_ray = timing.median_ms / double(sample.size());
+      std::vector<MeshHit> frame_hits(count);
+      for (std::size_t k = 0; k < ref.index.size(); ++k) frame_hits[ref.index[k]] = hits[k];
+      ReportRow row{"brute force (chapter 04)", "cpu", ms_per_ray * double(count),
+                    1e-3 / ms_per_ray,          "",    {}};
+      row.error = error_against(ref, frame_hits, row) + "; timed on the " +
+                  group_digits(static_cast<long long>(sample.size())) +
+                  " sampled rays, frame time extrapolated";
+      report.add_row(row);
+    }
+    for (const Bvh& bvh : trees) {
+      std::optional<DeviceBvh> d_bvh;
+      if (backend == Backend::gpu) d_bvh.emplace(bvh);
+      const Traced traced = trace_frame(
+          backend,
+          [&](MeshHit* hits) {
+            trace_rays_gpu(Query::closest, variant, d_bvh->view(), d_rays->data(), int(count),
+                           hits);
+          },
+          [&](std::vector<MeshHit>& hits) {
+            trace_rays_cpu(Query::closest, variant, bvh.view(), frame.rays, hits);
+          },
+          count, timing_plan(backend, options.common.frames));
+      const TraversalWork work = measure_work(Query::closest, variant, bvh.view(), frame.rays);
+      ReportRow row{std::string("BVH, ") + to_string(bvh.options.method),
+                    to_string(backend),
+                    traced.timing.median_ms,
+                    double(count) / (traced.timing.median_ms * 1e3),
+                    "",
+                    {}};
+      row.error = error_against(ref, traced.hits, row);
+      if (brute_hits) {
+        const HitAgreement a = compare_hits(traced.hits, *brute_hits);
+        row.error += "; " + group_digits(a.mismatches) + " px differ from brute force (" +
+                     group_digits(a.ties) + " exact ties)";
+        row.metrics.emplace_back("brute_force_mismatches", double(a.mismatches));
+      }
+      row.error += "; " + fixed(work.nodes_per_ray, 1) + " nodes, " +
+                   fixed(work.triangles_per_ray, 1) + " triangles per ray";
+      row.metrics.emplace_back("nodes_per_ray", work.nodes_per_ray);
+      row.metrics.emplace_back("triangles_per_ray", work.triangles_per_ray);
+      if (backend == Backend::gpu) {
+        const int regs = trace_kernel_registers(Query::closest, variant);
+        row.error += ", " + std::to_string(regs) + " regs";
+        row.metrics.emplace_back("registers", regs);
+      }
+      report.add_row(row);
+    }
+  }
+
+  // The shaded frame: chapter 06's shading, through the tree (SAH) and, on the GPU, by brute
+  // force with chapter 06's own kernel.
+  const unsigned features = ch06::features_used(scene, options.smooth, options.shadows);
+  const Bvh& bvh = trees.back();
+  std::optional<Image> gpu_image;
+  for (const Backend backend : backends) {
+    const auto run = [&](bool tree) {
+      Image image(extent.width, extent.height);
+      Timing timing;
+      const TimingPlan plan =
+          tree ? timing_plan(backend, options.common.frames)
+               : TimingPlan{1, options.common.frames > 0 ? options.common.frames : 3};
+      if (backend == Backend::gpu) {
+        const ch06::DeviceShadedScene d_scene(scene, features);
+        const DeviceBvh d_bvh(bvh);
+        DeviceBuffer<Rgba8> d_pixels(image.pixels.size());
+        timing = time_gpu(
+            [&] {
+              if (tree)
+                render_bvh_shaded(backend, features, with_bvh(d_scene.view(), d_bvh.view()),
+                                  camera, extent, d_pixels.data());
+              else
+                ch06::render_shaded(backend, ch06::KernelKind::specialised, features,
+                                    d_scene.view(), camera, extent, d_pixels.data());
+            },
+            plan);
+        d_pixels.download(image.pixels);
+      } else {
+        const ch06::SceneView view = ch06::host_view(scene, features);
+        timing = time_cpu(
+            [&] {
+              render_bvh_shaded(backend, features, with_bvh(view, bvh.view()), camera, extent,
+                                image.pixels.data());
+            },
+            plan);
+      }
+      return std::pair{std::move(image), timing};
+    };
+    std::optional<Image> brute_image;
+    if (backend == Backend::gpu) {
+      auto [image, timing] = run(false);
+      report.add_row({"shaded frame, brute force (chapter 06)",
+                      "gpu",
+                      timing.median_ms,
+                      double(count) / (timing.median_ms * 1e3),
+                      fixed(1000.0 / timing.median_ms, 1) + " frames/s",
+                      {{"fps", 1000.0 / timing.median_ms}}});
+      brute_image = std::move(image);
+    }
+    auto [image, timing] = run(true);
+    std::string error = fixed(1000.0 / timing.median_ms, 1) + " frames/s";
+    const Image* against = brute_image ? &*brute_image : (gpu_image ? &*gpu_image : nullptr);
+    long long differing = -1;
+    if (against != nullptr) {
+      differing = static_cast<long long>(count_differing_pixels(image.pixels, against->pixels));
+      error += "; " + group_digits(differing) + " px differ from " +
+               (brute_image ? "brute force" : "the GPU's frame");
+    }
+    report.add_row(
+        {"shaded frame, BVH (SAH)",
+         to_string(backend),
+         timing.median_ms,
+         double(count) / (timing.median_ms * 1e3),
+         error,
+         {{"fps", 1000.0 / timing.median_ms}, {"pixels_differing", double(differing)}}});
+    if (backend == Backend::gpu) gpu_image = std::move(image);
+  }
+}
+
+void render_image(const ChapterOptions& options, Backend backend, const ShadedScene& scene,
+                  const Bvh& bvh, const ch03::CameraSpec& spec) {
+  const Extent extent = options.common.extent();
+  const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
+  const unsigned features = ch06::features_used(scene, options.smooth, options.shadows);
+  const Image image = render_into_image(backend, extent, [&](Rgba8* pixels) {
+    if (backend == Backend::gpu) {
+      const ch06::DeviceShadedScene d_scene(scene, features);
+      const DeviceBvh d_bvh(bvh);
+      render_bvh_shaded(backend, features, with_bvh(d_scene.view(), d_bvh.view()), camera,
+                        extent, pixels);
+    } else {
+      render_bvh_shaded(backend, features,
+                        with_bvh(ch06::host_view(scene, features), bvh.view()), camera, extent,
+                        pixels);
+    }
+  });
+  write_image(options.common.output, image);
+  std::cout << "wrote " << options.common.output << "\n";
+}
+
+void run_window(const ChapterOptions& options, Backend backend, ch02::Viewer& viewer,
+                const ShadedScene& scene, const Bvh& bvh, const ch03::CameraSpec& start,
+                Report& report) {
+  const unsigned features = ch06::features_used(scene, options.smooth, options.shadows);
+  std::optional<ch06::DeviceShadedScene> d_scene;
+  std::optional<DeviceBvh> d_bvh;
+  if (backend == Backend::gpu) {
+    d_scene.emplace(scene, features);
+    d_bvh.emplace(bvh);
+  }
+  const BvhSceneView view = d_scene ? with_bvh(d_scene->view(), d_bvh->view())
+                                    : with_bvh(ch06::host_view(scene, features), bvh.view());
+  const ch03::WindowSettings window{"ch07: bounding volume hierarchy", options.common.frames,
+                                    "ch07_screenshot"};
+  const ch03::WindowResult shown = ch03::run_window(
+      viewer, backend, start, window,
+      [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+        render_bvh_shaded(b, features, view, ch03::make_camera<float>(spec, extent), extent,
+                          pixels);
+      });
+  if (shown.frames == 0) return;
+  report.add_row({"shaded frame, BVH (SAH), window (" + shown.path + ")",
+                  to_string(backend),
+                  shown.frame_time.median_ms,
+                  double(shown.last_screen.width) * shown.last_screen.height /
+                      (shown.frame_time.median_ms * 1e3),
+                  fixed(1000.0 / shown.frame_time.median_ms, 1) + " frames/s on screen",
+                  {{"fps", 1000.0 / shown.frame_time.median_ms}}});
+  if (options.common.frames > 0 && !options.common.output.empty()) {
+    write_image(options.common.output, shown.last_screen);
+    std::cout << "wrote " << options.common.output << " (screenshot)\n";
+  }
+}
+
+// --rays FILE --hits FILE: the closest hit of every ray of the file.
+int run_ray_file(const ChapterOptions& options, Backend backend, const ch04::Mesh& mesh) {
+  if (options.hits_path.empty()) throw UsageError("--rays needs --hits FILE for the results");
+  const std::vector<RayF> rays = read_ray_file(options.rays_path);
+  const Bvh bvh = build_bvh(mesh, options.build);
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<MeshHit> hits =
+      trace_rays(backend, Query::closest, options.variant, bvh, rays);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+          .count();
+  write_hit_file(options.hits_path, hits);
+  const auto hit_count =
+      std::count_if(hits.begin(), hits.end(), [](const MeshHit& h) { return h.triangle >= 0; });
+  std::cout << "traced " << group_digits(static_cast<long long>(rays.size())) << " rays on "
+            << describe_backend(backend) << ": " << group_digits(hit_count) << " hit, "
+            << fixed(ms, 1) << " ms with the upload; wrote " << options.hits_path << "\n";
+  return 0;
+}
+
+// --dump-hits FILE --ray-type T: the protocol's rays for one view, per-pixel hits.
+int run_dump_hits(const ChapterOptions& options, Backend backend, const ch04::Mesh& mesh) {
+  const Bvh bvh = build_bvh(mesh, options.build);
+  ProtocolView view = protocol_view(options.scene_path, bvh.bounds);
+  if (options.eye_given || options.target_given || options.fov_given) {
+    if (options.eye_given) view.eye = options.camera.eye.as<float>();
+    if (options.target_given) view.target = options.camera.target.as<float>();
+    if (options.fov_given) view.vfov_degrees = static_cast<float>(options.camera.fov_degrees);
+    view.kind = ViewKind::custom;
+  }
+  const Extent extent = options.size_given ? options.common.extent() : Extent{1920, 1080};
+  const PinholeCamera camera = make_protocol_camera(view, extent.width, extent.height);
+  const std::vector<RayF> rays = camera_rays_cpu(camera);
+  std::vector<MeshHit> hits = trace_rays(backend, Query::closest, options.variant, bvh, rays);
+  if (options.ray_type != RayType::primary) {
+    const SecondaryRays secondary =
+        secondary_rays_cpu(options.ray_type, mesh, hits, camera, scene_radius(bvh.bounds));
+    const Query query = options.ray_type == RayType::ao ? Query::any : Query::closest;
+    const std::vector<MeshHit> secondary_hits =
+        trace_rays(backend, query, options.variant, bvh, secondary.rays);
+    hits = scatter_to_pixels(secondary_hits, secondary.pixel, int(extent.pixel_count()));
+  }
+  write_hit_file(options.dump_hits_path, hits);
+  std::cout << "wrote " << options.dump_hits_path << ": " << to_string(options.ray_type)
+            << " hits, " << extent.width << "x" << extent.height << ", view "
+            << to_string(view.kind) << " (eye " << view.eye.x << "," << view.eye.y << ","
+            << view.eye.z << ", target " << view.target.x << "," << view.target.y << ","
+            << view.target.z << ", fov " << view.vfov_degrees << ")\n";
+  return 0;
+}
+
+int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
+  std::vector<std::string> scenes = options.benchmark_scenes;
+  if (scenes.empty()) scenes = benchmark_set(options.models_dir);
+  if (scenes.empty())
+    throw InputError("--benchmark: no scenes given and none of the benchmark set in " +
+                     options.models_dir);
+  BenchmarkOptions bench;
+  bench.extent = options.size_given ? options.common.extent() : Extent{1920, 1080};
+  bench.backend = backend;
+  bench.variant = options.variant;
+  bench.build = options.build;
+  bench.frames = options.common.frames;
+  bench.end_to_end = options.end_to_end;
+  Report report("Chapter 07: benchmark protocol", "Mrays/s", "brute force on sampled rays");
+  const std::string device = describe_backend(backend);
+  report.add_context("device", device);
+  report.add_context("image", std::to_string(bench.extent.width) + "x" +
+                                  std::to_string(bench.extent.height));
+  report.add_context("tree", std::string(to_string(bench.build.method)) + ", leaves of up to " +
+                                 std::to_string(bench.build.max_leaf_size) + " triangles, " +
+                                 std::to_string(bench.build.bins) + " bins");
+  report.add_context("triangle test", ch04::to_string(bench.variant));
+  report.add_context("timing", backend == Backend::gpu
+                                   ? "kernel only: CUDA events, median of 50 after 5 warm-ups"
+                                   : "median of 5 after 1 warm-up, " +
+                                         std::to_string(cpu_thread_count()) + " threads");
+  const std::vector<BenchmarkResult> results = run_benchmark(scenes, bench, report);
+  report.print(std::cout);
+  std::cout << "\n" << summary_table(results, device);
+  if (!options.common.json.empty()) report.write_json(options.common.json);
+  long long mismatches = 0;
+  for (const BenchmarkResult& r : results) mismatches += r.mismatches;
+  if (mismatches > 0) throw Error("the tree disagrees with brute force on sampled rays");
+  return 0;
+}
+
+ShadedScene load_scene(const ChapterOptions& options, ch03::CameraSpec& camera) {
+  ShadedScene scene = ch06::scene_from_obj(ch05::load_obj(options.scene_path), {});
+  const ch03::CameraSpec framed =
+      ch06::frame_bounds(ch06::bounds_of(scene.mesh), options.camera.fov_degrees);
+  if (!options.eye_given) camera.eye = framed.eye;
+  if (!options.target_given) camera.target = framed.target;
+  return scene;
+}
+
+int run(ChapterOptions& options) {
+  ch03::validate_camera(options.camera);
+  check_build_options(options.build);
+  const Backend backend = resolve_backend(options.common.backend, std::cout);
+  if (options.benchmark) return run_benchmark_mode(options, backend);
+  if (!options.rays_path.empty() || !options.dump_hits_path.empty()) {
+    const ch05::ObjMesh obj = ch05::load_obj(options.scene_path);
+    return options.rays_path.empty() ? run_dump_hits(options, backend, obj.geometry)
+                                     : run_ray_file(options, backend, obj.geometry);
+  }
+
+  ch03::CameraSpec camera = options.camera;
+  const ShadedScene scene = load_scene(options, camera);
+  ch03::validate_camera(camera);
+
+  Report report("Chapter 07: bounding volume hierarchy", "Mrays/s",
+                "float64 brute force (CPU, sampled rays)");
+  report.add_context("device", describe_backend(backend));
+  report.add_context("image", std::to_string(options.common.width) + "x" +
+                                  std::to_string(options.common.height));
+  report.add_context("scene",
+                     options.scene_path + ", " +
+                         group_digits(static_cast<long long>(scene.mesh.triangles.size())) +
+                         " triangles");
+  report.add_context("tree", "leaves of up to " + std::to_string(options.build.max_leaf_size) +
+                                 " triangles, " + std::to_string(options.build.bins) +
+                                 " SAH bins; triangle test " +
+                                 ch04::to_string(options.variant));
+  report.add_context("error column",
+                     "triangle ids differing from the float64 reference on " +
+                         group_digits(options.reference_pixels) +
+                         " sampled rays, worst relative t error; pixels whose hit differs "
+                         "from brute force; work per ray");
+
+  const std::unique_ptr<ch02::Viewer> viewer = ch03::open_viewer(
+      options.display, options.common.extent(), "ch07: bounding volume hierarchy");
+  if (viewer) {
+    const Bvh bvh = build_bvh(scene.mesh, options.build);
+    report.add_context("mode", ch03::k_window_mode);
+    run_window(options, backend, *viewer, scene, bvh, camera, report);
+  } else {
+    if (options.image_only) {
+      if (options.common.output.empty()) throw UsageError("--image-only needs --output");
+      render_image(options, backend, scene, build_bvh(scene.mesh, options.build), camera);
+      return 0;
+    }
+    report.add_context("mode", ch03::k_headless_mode);
+    std::vector<Backend> backends;
+    if (backend == Backend::gpu) backends.push_back(Backend::gpu);
+    if (backend == Backend::cpu || !options.skip_cpu) backends.push_back(Backend::cpu);
+    report_variants(options, backends, scene, camera, report);
+    if (!options.common.output.empty())
+      render_image(options, backend, scene, build_bvh(scene.mesh, options.build), camera);
+  }
+  report.print(std::cout);
+  if (!options.common.json.empty()) report.write_json(options.common.json);
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Chapter 07: the bounding volume hierarchy: build, traversal, benchmark",
+               "ch07_bvh"};
+  ChapterOptions options;
+  options.common.width = 1280;
+  options.common.height = 720;
+  options.common.output = "ch07_bvh.png";
+  add_common_options(app, options.common);
+  ch03::add_camera_options(app, options.camera);
+  ch04::add_triangle_variant_option(app, options.variant);
+  app.add_option("--scene", options.scene_path, "OBJ file to trace (.obj or gzip'd)")
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--split",
+         [&](const std::string& text) {
+           options.build.method = text == "median" ? SplitMethod::median : SplitMethod::sah;
+         },
+         "How the tree is built for the image, the ray files and the benchmark")
+      ->check(CLI::IsMember({"median", "sah"}))
+      ->default_str("sah");
+  app.add_option("--leaf-size", options.build.max_leaf_size, "Most triangles in a leaf")
+      ->check(CLI::Range(1, k_max_leaf_size))
+      ->capture_default_str();
+  app.add_option("--bins", options.build.bins, "SAH bins per axis")
+      ->check(CLI::Range(2, 256))
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--shading", [&](const std::string& text) { options.smooth = text == "smooth"; },
+         "Normals for the image: flat or smooth")
+      ->check(CLI::IsMember({"flat", "smooth"}))
+      ->default_str("smooth");
+  app.add_option_function<std::string>(
+         "--shadows", [&](const std::string& text) { options.shadows = text == "on"; },
+         "Shadow rays for the image")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->default_str("on");
+  app.add_option("--reference-pixels", options.reference_pixels,
+                 "Rays the float64 reference traces (every triangle, in double)")
+      ->check(CLI::Range(1LL, 1LL << 20))
+      ->capture_default_str();
+  app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
+  app.add_flag("--image-only", options.image_only,
+               "Headless: write the --output image and skip the measurements");
+  app.add_option("--rays", options.rays_path,
+                 "Trace the rays of this file (per ray: origin xyz, direction xyz, tmin, tmax; "
+                 "float32 little-endian)");
+  app.add_option("--hits", options.hits_path,
+                 "With --rays: write the closest hit of each ray here (float32 t, int32 id)");
+  app.add_option("--dump-hits", options.dump_hits_path,
+                 "Write the benchmark protocol's per-pixel hits of --ray-type here");
+  app.add_option_function<std::string>(
+         "--ray-type",
+         [&](const std::string& text) {
+           options.ray_type = text == "ao"        ? RayType::ao
+                              : text == "diffuse" ? RayType::diffuse
+                                                  : RayType::primary;
+         },
+         "Rays for --dump-hits: primary, ao or diffuse")
+      ->check(CLI::IsMember({"primary", "ao", "diffuse"}))
+      ->default_str("primary");
+  app.add_flag("--benchmark", options.benchmark,
+               "Run the benchmark protocol on the SCENE files given, or on the benchmark set "
+               "in --models");
+  app.add_option("scenes", options.benchmark_scenes, "With --benchmark: OBJ files to measure")
+      ->check(CLI::ExistingFile);
+  app.add_option("--models", options.models_dir, "Where --benchmark finds the benchmark set")
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--end-to-end", [&](const std::string& text) { options.end_to_end = text == "on"; },
+         "With --benchmark: also time the shaded frame")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->default_str("on");
+  ch03::add_display_options(app, options.display);
+  return run_main(app, argc, argv, [&] {
+    options.eye_given = app.get_option("--eye")->count() > 0;
+    options.target_given = app.get_option("--target")->count() > 0;
+    options.fov_given = app.get_option("--fov")->count() > 0;
+    options.size_given =
+        app.get_option("--width")->count() > 0 || app.get_option("--height")->count() > 0;
+    if (!options.benchmark_scenes.empty() && !options.benchmark)
+      throw UsageError("scene files on the command line go with --benchmark (else --scene)");
+    if (!options.hits_path.empty() && options.rays_path.empty())
+      throw UsageError("--hits goes with --rays FILE");
+    if (!options.common.output.empty()) check_image_path(options.common.output);
+    return run(options);
+  });
+}

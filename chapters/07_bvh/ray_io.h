@@ -1,0 +1,54 @@
+// Chapter 07: ray files and hit files, the benchmark's way of exchanging work with other ray
+// tracers. Both are raw little-endian float32/int32 records with no header, so any language
+// reads them with one call (numpy.fromfile, fread).
+#pragma once
+
+#include <bit>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "ray.h"
+#include "triangles.h"
+
+namespace rt::ch07 {
+
+using ch03::RayF;
+using ch04::MeshHit;
+
+// A ray record is RayF as it lies in memory: origin xyz, direction xyz, tmin, tmax (32 bytes).
+// A hit record is MeshHit: float32 t (+inf for a miss), int32 triangle id (-1 for a miss).
+// The files are read and written by copying records whole, which is only the file format on
+// a little-endian machine with these exact layouts.
+static_assert(std::endian::native == std::endian::little,
+              "ray and hit files are little-endian");
+static_assert(sizeof(RayF) == 32 && offsetof(RayF, direction) == 12 &&
+                  offsetof(RayF, tmin) == 24,
+              "a ray record is origin, direction, tmin, tmax: 8 float32");
+static_assert(sizeof(MeshHit) == 8 && offsetof(MeshHit, triangle) == 4,
+              "a hit record is float32 t, int32 triangle");
+
+inline constexpr long long k_default_max_records = 1LL << 27; // 4 GiB of rays
+
+// Reads a ray file. Throws InputError "path: what is wrong" for a missing or unreadable file,
+// a size that is not a whole number of records, more than max_rays rays, or a ray that cannot
+// be traced: NaN anywhere, a non-finite origin or direction, a zero direction, a non-finite
+// tmin or a NaN tmax. tmax = +inf is the usual unbounded ray; tmin > tmax is a valid ray that
+// hits nothing.
+std::vector<RayF> read_ray_file(const std::string& path,
+                                long long max_rays = k_default_max_records);
+
+// Throws OutputError naming the path if the file cannot be written completely.
+void write_ray_file(const std::string& path, std::span<const RayF> rays);
+
+// Reads a hit file. Throws InputError for a size that is not a whole number of records, more
+// than max_hits records, a NaN t, an id below -1, or a record that is half a miss (t = +inf
+// with an id, or id -1 with a finite t).
+std::vector<MeshHit> read_hit_file(const std::string& path,
+                                   long long max_hits = k_default_max_records);
+
+// Throws OutputError naming the path if the file cannot be written completely.
+void write_hit_file(const std::string& path, std::span<const MeshHit> hits);
+
+} // namespace rt::ch07

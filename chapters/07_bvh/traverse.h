@@ -1,0 +1,181 @@
+// Chapter 07: walking the tree. One RT_HD function serves both backends and both questions a
+// renderer asks: the closest hit (camera rays, bounces) and any hit (shadow rays, ambient
+// occlusion). It visits only the nodes whose boxes the ray enters, nearer child first, so a
+// ray costs about log N box tests and a few triangle tests instead of N triangle tests.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "bvh.h"
+#include "triangles.h"
+
+namespace rt::ch07 {
+
+using ch03::RayF;
+using ch04::MeshHit;
+using ch04::TriangleVariant;
+
+enum class Query { closest, any };
+
+const char* to_string(Query query);
+
+// The closest (or any) hit, with the barycentrics shading needs; triangle is the mesh's own
+// number. t = +inf, triangle = -1 for a miss.
+struct TraceHit {
+  float t = std::numeric_limits<float>::infinity();
+  int triangle = -1;
+  float u = 0.0f, v = 0.0f;
+};
+
+// Whether a ray can be traced at all. NaN or infinity in the origin or direction, a zero
+// direction or NaN bounds would send NaN through every box test: such a ray misses at once,
+// before the traversal touches the tree.
+RT_HD inline bool traceable(const RayF& ray) {
+  const Vec3f o = ray.origin, d = ray.direction;
+  const bool finite = ch04::is_finite(o.x) && ch04::is_finite(o.y) && ch04::is_finite(o.z) &&
+                      ch04::is_finite(d.x) && ch04::is_finite(d.y) && ch04::is_finite(d.z);
+  const bool has_direction = d.x != 0.0f || d.y != 0.0f || d.z != 0.0f;
+  return finite && has_direction && ray.tmin == ray.tmin && ray.tmax == ray.tmax;
+}
+
+// [listing:box_ray]
+// What every box test of one ray shares, computed once per ray. 1/d is +-infinity for a zero
+// component (IEEE division by a signed zero), which is what the slab test below needs. The
+// sign of 1/d, not d < 0, chooses the near plane: -0.0 has the reciprocal -inf, so it must
+// pick the planes of a negative direction, or a ray lying on a slab plane finds the box empty.
+struct BoxRay {
+  Vec3f origin;
+  Vec3f inverse; // 1 / direction, per component
+  bool negative[3];
+};
+
+RT_HD inline BoxRay make_box_ray(const RayF& ray) {
+  const Vec3f d = ray.direction;
+  const Vec3f inverse{1.0f / d.x, 1.0f / d.y, 1.0f / d.z};
+  return {ray.origin, inverse, {inverse.x < 0.0f, inverse.y < 0.0f, inverse.z < 0.0f}};
+}
+// [/listing:box_ray]
+
+// [listing:slab_test]
+// The slab test: the ray is inside the box where it is inside all three pairs of planes.
+// Each axis gives the distances to its near and far plane; the ray enters the box at the
+// largest near distance and leaves at the smallest far one.
+//   - A zero direction component with the origin exactly on a plane makes 0 * inf = NaN.
+//     fmaxf/fminf return the other argument when one is NaN, so that axis simply stops
+//     constraining the ray: an origin on the boundary counts as inside, the conservative
+//     answer. With the origin strictly outside that slab, the distance is +-inf and the
+//     box is missed, as it must be.
+//   - Each distance is computed with two rounded operations and may be a little short;
+//     the exit distance is enlarged by 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"),
+//     so a ray that touches a box in exact arithmetic is never refused in float.
+// The box is entered where t_enter <= t_exit; t_enter is returned to order the children.
+RT_HD inline bool enter_box(const Aabb& box, const BoxRay& r, float tmin, float tmax,
+                            float& t_enter) {
+  constexpr float k_widen = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+  const float near_x = ((r.negative[0] ? box.hi.x : box.lo.x) - r.origin.x) * r.inverse.x;
+  const float near_y = ((r.negative[1] ? box.hi.y : box.lo.y) - r.origin.y) * r.inverse.y;
+  const float near_z = ((r.negative[2] ? box.hi.z : box.lo.z) - r.origin.z) * r.inverse.z;
+  const float far_x = ((r.negative[0] ? box.lo.x : box.hi.x) - r.origin.x) * r.inverse.x;
+  const float far_y = ((r.negative[1] ? box.lo.y : box.hi.y) - r.origin.y) * r.inverse.y;
+  const float far_z = ((r.negative[2] ? box.lo.z : box.hi.z) - r.origin.z) * r.inverse.z;
+  t_enter = fmaxf(fmaxf(near_x, near_y), fmaxf(near_z, tmin));
+  const float t_exit = fminf(fminf(far_x, far_y), far_z) * k_widen;
+  return t_enter <= fminf(t_exit, tmax);
+}
+// [/listing:slab_test]
+
+// Counters for the report and the tests: free when not asked for (NoCounters compiles away).
+struct NoCounters {
+  RT_HD void node() {}
+  RT_HD void triangle() {}
+  RT_HD void stack(int) {}
+};
+struct Counters {
+  int nodes = 0;     // interior nodes visited
+  int triangles = 0; // triangle tests
+  int max_stack = 0; // deepest the stack went
+  RT_HD void node() { ++nodes; }
+  RT_HD void triangle() { ++triangles; }
+  RT_HD void stack(int size) { max_stack = size > max_stack ? size : max_stack; }
+};
+
+// The triangles of one leaf against the ray; tmax shrinks with every hit, so later tests
+// (in this leaf and in every box after it) only accept nearer ones. True when the query is
+// answered: any hit at all, for Query::any.
+template <Query kQuery, TriangleVariant kVariant, class C>
+RT_HD bool intersect_leaf(const BvhView& bvh, int first, int count, RayF& ray, TraceHit& hit,
+                          C& counters) {
+  for (int k = first; k < first + count; ++k) {
+    counters.triangle();
+    const ch04::TriangleHitF h = ch04::intersect_triangle(kVariant, ray, bvh.triangles[k]);
+    if (!h.hit) continue;
+    hit = {h.t, bvh.triangle_ids[k], h.u, h.v};
+    ray.tmax = h.t;
+    if (kQuery == Query::any) return true;
+  }
+  return false;
+}
+
+// [listing:traverse]
+// The closest (or any) hit of `ray` among the tree's triangles: the same answer as testing
+// every triangle (chapter 04's closest_hit), up to which of two triangles at exactly the same
+// distance is kept.
+//
+// Each step reads one node and tests the ray against both children's boxes. Leaf children
+// are intersected at once; of two interior children the ray enters, the nearer is visited
+// next and the other is pushed on the stack. The stack holds at most one node per level
+// above the current one, and the build keeps every interior node above depth
+// k_max_bvh_depth: the fixed array below cannot overflow.
+template <Query kQuery, TriangleVariant kVariant, class C = NoCounters>
+RT_HD TraceHit trace_bvh(const BvhView& bvh, RayF ray, C&& counters = C{}) {
+  TraceHit hit;
+  if (bvh.node_count == 0 || !traceable(ray)) return hit;
+  const BoxRay box_ray = make_box_ray(ray);
+  int stack[k_max_bvh_depth];
+  int stack_size = 0;
+  int node = 0; // the root
+  for (;;) {
+    counters.node();
+    const BvhNode& n = bvh.nodes[node];
+    float t0 = 0.0f, t1 = 0.0f;
+    bool enter0 = enter_box(n.box[0], box_ray, ray.tmin, ray.tmax, t0);
+    bool enter1 = enter_box(n.box[1], box_ray, ray.tmin, ray.tmax, t1);
+    if (enter0 && n.is_leaf(0)) {
+      if (intersect_leaf<kQuery, kVariant>(bvh, n.first[0], n.count[0], ray, hit, counters))
+        return hit;
+      enter0 = false;
+    }
+    if (enter1 && n.is_leaf(1)) {
+      if (intersect_leaf<kQuery, kVariant>(bvh, n.first[1], n.count[1], ray, hit, counters))
+        return hit;
+      enter1 = false;
+    }
+    if (enter0 && enter1) { // both interior: nearer first, the other later
+      const int nearer = t1 < t0 ? 1 : 0;
+      stack[stack_size++] = n.first[1 - nearer];
+      counters.stack(stack_size);
+      node = n.first[nearer];
+    } else if (enter0) {
+      node = n.first[0];
+    } else if (enter1) {
+      node = n.first[1];
+    } else if (stack_size > 0) {
+      node = stack[--stack_size];
+    } else {
+      return hit;
+    }
+  }
+}
+// [/listing:traverse]
+
+// The variant chosen at run time (the CPU paths and tests), compiled in for both.
+template <Query kQuery, class C = NoCounters>
+RT_HD TraceHit trace_bvh(TriangleVariant variant, const BvhView& bvh, const RayF& ray,
+                         C&& counters = C{}) {
+  return variant == TriangleVariant::watertight
+             ? trace_bvh<kQuery, TriangleVariant::watertight>(bvh, ray, counters)
+             : trace_bvh<kQuery, TriangleVariant::moller_trumbore>(bvh, ray, counters);
+}
+
+} // namespace rt::ch07

@@ -1,0 +1,128 @@
+// Chapter 07 tests on the GPU: the traversal kernel gives the CPU's hits bit for bit (both
+// queries, both triangle tests, random and hostile rays), brute force on the GPU agrees with
+// the CPU's, and the shaded frame traced through the tree is chapter 06's frame.
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "rt_catch.h"
+
+#include "bvh_build.h"
+#include "bvh_render.h"
+#include "bvh_trace.h"
+#include "gpu_guard.h"
+#include "rt/device_buffer.h"
+#include "shaded_render.h"
+#include "shaded_scene.h"
+
+using namespace rt;
+using namespace rt::ch07;
+using ch04::TriangleVariant;
+
+namespace {
+
+ch04::Mesh scene_for_tests() {
+  ch04::Mesh mesh = ch04::make_icosphere(4, {0.5, 0.0, -0.5}, 1.5);
+  const ch04::Mesh box = ch04::make_box({-3.0, -2.0, -3.0}, {3.0, -1.5, 3.0}, 8);
+  const int base = static_cast<int>(mesh.vertices.size());
+  mesh.vertices.insert(mesh.vertices.end(), box.vertices.begin(), box.vertices.end());
+  for (const auto& t : box.triangles)
+    mesh.triangles.push_back({t.v0 + base, t.v1 + base, t.v2 + base});
+  return mesh;
+}
+
+std::vector<RayF> rays_for_tests(int count) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::vector<RayF> rays;
+  for (int i = 0; i < count; ++i) {
+    const Vec3f o{4.0f * unit(rng), 4.0f * unit(rng), 4.0f * unit(rng)};
+    rays.push_back({o, Vec3f{unit(rng), unit(rng), unit(rng)} * 0.5f - o * 0.25f});
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  rays.push_back({{nan, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}});
+  rays.push_back({{0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, inf}});
+  rays.push_back({{0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}});
+  rays.push_back({{0.0f, -1.5f, 5.0f}, {0.0f, -0.0f, -1.0f}}); // along the box's top face
+  rays.push_back({{1e6f, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}});   // from far away
+  return rays;
+}
+
+bool same_hits(const std::vector<ch04::MeshHit>& a, const std::vector<ch04::MeshHit>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].triangle != b[i].triangle || !(a[i].t == b[i].t || a[i].triangle < 0))
+      return false;
+  return true;
+}
+
+} // namespace
+
+TEST_CASE("GPU traversal gives the CPU's hits bit for bit", "[ch07][gpu]") {
+  RT_REQUIRE_GPU();
+  const ch04::Mesh mesh = scene_for_tests();
+  const std::vector<RayF> rays = rays_for_tests(20000);
+  for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
+    BuildOptions options;
+    options.method = method;
+    const Bvh bvh = build_bvh(mesh, options);
+    for (const TriangleVariant variant :
+         {TriangleVariant::moller_trumbore, TriangleVariant::watertight}) {
+      for (const Query query : {Query::closest, Query::any}) {
+        CAPTURE(to_string(method), ch04::to_string(variant), to_string(query));
+        const auto gpu = trace_rays(Backend::gpu, query, variant, bvh, rays);
+        const auto cpu = trace_rays(Backend::cpu, query, variant, bvh, rays);
+        CHECK(same_hits(gpu, cpu));
+        if (query == Query::closest) {
+          const HitAgreement a = compare_hits(gpu, ch04::closest_hits_cpu(variant, mesh, rays));
+          CHECK(a.mismatches == 0);
+          CHECK(a.hits > 5000);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("GPU brute force agrees with the CPU's", "[ch07][gpu]") {
+  RT_REQUIRE_GPU();
+  const ch04::Mesh mesh = scene_for_tests();
+  const std::vector<RayF> rays = rays_for_tests(3000);
+  const DeviceBuffer<Vec3f> d_vertices{std::span<const Vec3f>(mesh.vertices)};
+  const DeviceBuffer<ch04::IndexedTriangle> d_triangles{
+      std::span<const ch04::IndexedTriangle>(mesh.triangles)};
+  const DeviceBuffer<RayF> d_rays{std::span<const RayF>(rays)};
+  DeviceBuffer<ch04::MeshHit> d_hits(rays.size());
+  brute_force_gpu(TriangleVariant::watertight,
+                  {d_vertices.data(), d_triangles.data(), int(mesh.triangles.size())},
+                  d_rays.data(), int(rays.size()), d_hits.data());
+  CHECK(same_hits(d_hits.to_host(),
+                  ch04::closest_hits_cpu(TriangleVariant::watertight, mesh, rays)));
+}
+
+TEST_CASE("GPU shaded frame through the tree is chapter 06's frame", "[ch07][gpu]") {
+  RT_REQUIRE_GPU();
+  const ch06::ShadedScene scene = ch06::make_default_scene(3, 1.0, {});
+  const Bvh bvh = build_bvh(scene.mesh, {});
+  const Extent extent{160, 90};
+  const ch03::Camera<float> camera =
+      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  for (const bool smooth : {false, true}) {
+    CAPTURE(smooth);
+    const unsigned features = ch06::features_used(scene, smooth, true);
+    const ch06::DeviceShadedScene d_scene(scene, features);
+    const DeviceBvh d_bvh(bvh);
+    DeviceBuffer<Rgba8> d_tree(extent.pixel_count()), d_brute(extent.pixel_count());
+    render_bvh_shaded(Backend::gpu, features, with_bvh(d_scene.view(), d_bvh.view()), camera,
+                      extent, d_tree.data());
+    ch06::render_shaded(Backend::gpu, ch06::KernelKind::specialised, features, d_scene.view(),
+                        camera, extent, d_brute.data());
+    std::vector<Rgba8> cpu(extent.pixel_count());
+    render_bvh_shaded(Backend::cpu, features,
+                      with_bvh(ch06::host_view(scene, features), bvh.view()), camera, extent,
+                      cpu.data());
+    const std::vector<Rgba8> tree = d_tree.to_host();
+    CHECK(count_differing_pixels(tree, d_brute.to_host()) == 0);
+    CHECK(count_differing_pixels(tree, cpu) == 0);
+  }
+}

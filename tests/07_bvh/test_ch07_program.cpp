@@ -1,0 +1,181 @@
+// Chapter 07 tests of the program itself on the CPU: ray files in and hit files out (the
+// results equal brute force), the protocol's hit dumps, the benchmark mode on a small scene,
+// and bad input (malformed ray files, bad options) ending in one error line and a non-zero
+// exit.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "rt_catch.h"
+
+#include "bvh_trace.h"
+#include "obj_loader.h"
+#include "protocol.h"
+#include "ray_io.h"
+
+using namespace rt;
+using namespace rt::ch07;
+
+namespace {
+
+struct ProgramRun {
+  int exit_code = -1;
+  std::string output;
+};
+
+ProgramRun run_program(const std::string& arguments) {
+  const std::string command =
+      std::string(RT_CH07_PROGRAM) + " --headless --backend cpu " + arguments + " 2>&1";
+  ProgramRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) run.output += buffer;
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+int line_count(const std::string& text) {
+  int lines = 0;
+  for (const char c : text) lines += c == '\n';
+  return lines;
+}
+
+std::filesystem::path temp_folder() {
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("rt_ch07_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
+const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
+
+} // namespace
+
+TEST_CASE("program: a ray file in, the hits of brute force out", "[ch07]") {
+  const std::filesystem::path folder = temp_folder();
+  const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
+  // Rays from inside the room in every direction, and a few that miss or stop short.
+  std::vector<RayF> rays;
+  for (int i = 0; i < 500; ++i) {
+    const float a = 0.1f * i, b = 0.037f * i;
+    rays.push_back({{0.0f, 1.0f, 0.5f}, {std::cos(a) * std::cos(b), std::sin(b), std::sin(a)}});
+  }
+  rays.push_back({{0.0f, 1.0f, 0.5f}, {0.0f, 0.0f, 1.0f}, 0.0f, 1e-3f}); // stops short
+  rays.push_back({{0.0f, 100.0f, 0.5f}, {0.0f, 1.0f, 0.0f}});            // away from it all
+  const std::string ray_file = (folder / "rays.bin").string();
+  const std::string hit_file = (folder / "hits.bin").string();
+  write_ray_file(ray_file, rays);
+  const ProgramRun run =
+      run_program("--scene " + k_room + " --rays " + ray_file + " --hits " + hit_file);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const std::vector<MeshHit> hits = read_hit_file(hit_file);
+  REQUIRE(hits.size() == rays.size());
+  const std::vector<MeshHit> brute =
+      ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, rays);
+  const HitAgreement a = compare_hits(hits, brute);
+  CHECK(a.mismatches == 0);
+  CHECK(a.hits > 400);
+  CHECK(hits[rays.size() - 2].triangle == -1);
+  CHECK(hits.back().triangle == -1);
+  CHECK(std::isinf(hits.back().t));
+}
+
+TEST_CASE("program: the protocol's hit dumps", "[ch07]") {
+  const std::filesystem::path folder = temp_folder();
+  const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
+  const std::string primary = (folder / "primary.bin").string();
+  const std::string diffuse = (folder / "diffuse.bin").string();
+  // From inside the closed room, so that every bounce meets a wall.
+  const std::string size =
+      " --width 64 --height 48 --eye 0,1,0.9 --target 0,0.8,-1 --fov 70 --scene " + k_room;
+  REQUIRE(run_program("--dump-hits " + primary + size).exit_code == 0);
+  REQUIRE(run_program("--dump-hits " + diffuse + " --ray-type diffuse" + size).exit_code == 0);
+  const std::vector<MeshHit> primary_hits = read_hit_file(primary);
+  const std::vector<MeshHit> diffuse_hits = read_hit_file(diffuse);
+  REQUIRE(primary_hits.size() == 64u * 48u);
+  REQUIRE(diffuse_hits.size() == 64u * 48u);
+  // The same rays made here and traced by brute force give the same hits.
+  ch07::Aabb bounds;
+  for (const Vec3f& v : mesh.vertices) bounds.grow(v);
+  const PinholeCamera camera =
+      make_protocol_camera({0.0f, 1.0f, 0.9f}, {0.0f, 0.8f, -1.0f}, 70.0f, 64, 48);
+  const std::vector<RayF> rays = camera_rays_cpu(camera);
+  const auto brute = ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, rays);
+  CHECK(compare_hits(primary_hits, brute).mismatches == 0);
+  const SecondaryRays secondary =
+      secondary_rays_cpu(RayType::diffuse, mesh, brute, camera, scene_radius(bounds));
+  const auto brute_secondary =
+      ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, secondary.rays);
+  const auto expected = scatter_to_pixels(brute_secondary, secondary.pixel, 64 * 48);
+  const HitAgreement a = compare_hits(diffuse_hits, expected);
+  CHECK(a.mismatches == 0);
+  CHECK(a.hits == 64 * 48); // inside a closed room every diffuse ray hits a wall
+}
+
+TEST_CASE("program: the benchmark mode on a small scene", "[ch07]") {
+  const std::filesystem::path folder = temp_folder();
+  const std::string json = (folder / "bench.json").string();
+  const ProgramRun run = run_program("--benchmark " + k_room +
+                                     " --width 96 --height 54 --frames 1 --json " + json);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  for (const char* row : {"cornell_room, primary", "cornell_room, ao", "cornell_room, diffuse",
+                          "cornell_room, build", "cornell_room, shaded frame"})
+    CHECK_THAT(run.output, rt::testing::contains(row));
+  CHECK_THAT(run.output, rt::testing::contains("| cornell_room |"));
+  CHECK_THAT(run.output, rt::testing::contains("0 of"));
+  CHECK(std::filesystem::file_size(json) > 100);
+}
+
+TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch07]") {
+  const std::filesystem::path folder = temp_folder();
+  const std::string truncated = (folder / "truncated.bin").string();
+  std::ofstream(truncated, std::ios::binary) << std::string(40, '\0');
+  const std::string nan_rays = (folder / "nan.bin").string();
+  {
+    const float nan = std::nanf("");
+    const float ray[8] = {0, 0, 0, 0, nan, 1, 0, 1};
+    std::ofstream(nan_rays, std::ios::binary)
+        .write(reinterpret_cast<const char*>(ray), sizeof ray);
+  }
+  const std::string hits = (folder / "out.bin").string();
+  struct Case {
+    std::string arguments;
+    int exit_code;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"--rays " + truncated + " --hits " + hits, 1, "32-byte rays"},
+      {"--rays " + nan_rays + " --hits " + hits, 1, "not finite"},
+      {"--rays " + (folder / "missing.bin").string() + " --hits " + hits, 1, "missing.bin"},
+      {"--rays " + truncated, 2, "--hits"},
+      {"--hits " + hits, 2, "--rays"},
+      {"--leaf-size 0", 2, "leaf"},
+      {"--leaf-size 1000", 2, "leaf"},
+      {"--bins 1", 2, "bins"},
+      {"--split middle", 2, "split"},
+      {"--ray-type shiny --dump-hits " + hits, 2, "ray-type"},
+      {"--benchmark --models " + (folder / "nothing").string(), 1, "benchmark set"},
+      {k_room, 2, "--benchmark"},
+      {"--dump-hits " + (folder / "no" / "such" / "dir.bin").string() + " --scene " + k_room +
+           " --width 8 --height 8",
+       1, "dir.bin"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.arguments);
+    const ProgramRun run = run_program(c.arguments);
+    INFO(run.output);
+    CHECK(run.exit_code == c.exit_code);
+    CHECK(line_count(run.output) == 1);
+    CHECK_THAT(run.output, rt::testing::contains(c.says));
+  }
+}
