@@ -140,7 +140,7 @@ if wanted models && [ -d "$models" ]; then
   for model in "$models"/*.obj.gz; do
     name=$(basename "$model" .obj.gz)
     step "model_ch05_$name" build/native/bin/ch05_obj_loading --backend gpu --scene "$model" \
-      --width 320 --height 180 --frames 1 --reference-pixels 64 --scaling-max 1 \
+      --width 320 --height 180 --frames 1 --reference-pixels 64 --scaling-max -1 \
       --output "$logdir/models/ch05-$name.png"
     # Chapter 06's report renders a float64 image on the CPU by brute force: the image only.
     step "model_ch06_$name" build/native/bin/ch06_lambertian_shading --backend gpu \
