@@ -53,12 +53,14 @@ for path in "${paths[@]}"; do
   compare "ch02 $path" "$out/window-$path.png" "$out/headless-$path.png"
   # Chapters 03 and 04 open the interactive viewer: interop on the GPU, upload on the CPU.
   [ "$path" = copy ] && continue
-  for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading ch06_lambertian_shading; do
+  for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading ch06_lambertian_shading \
+    ch07_bvh; do
     [ -x "$build/bin/$chapter" ] || continue
     extra=()
     scene=()
     [ "$chapter" = ch04_moller_trumbore ] && extra=(--leak-rays 1000)
     [ "$chapter" = ch06_lambertian_shading ] && extra=(--image-only)
+    [ "$chapter" = ch07_bvh ] && extra=(--image-only)
     if [ "$chapter" = ch05_obj_loading ]; then # the small room: brute force on 100k is slow
       scene=(--scene "$(dirname "$0")/../assets/cornell_room.obj.gz")
       extra=(--scaling-max -1)

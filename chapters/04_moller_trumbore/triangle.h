@@ -108,9 +108,12 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   const T det = u_edge + v_edge + w_edge;
   if (det == T(0)) return {}; // the ray lies in the plane, or the triangle is a segment
   // [/listing:watertight_edges]
-  // 4. Distance: interpolate the moved z coordinates, scaled back to units of d.
-  const T t_times_det =
-      u_edge * (shear_z * a[kz]) + v_edge * (shear_z * b[kz]) + w_edge * (shear_z * c[kz]);
+  // 4. Distance: interpolate the moved z coordinates, scaled back to units of d. The sum is
+  // fused explicitly, as above: nvcc would contract it on the GPU and not on the CPU, and the
+  // two backends would round t differently.
+  const T t_times_det = fused_multiply_add(
+      u_edge, shear_z * a[kz],
+      fused_multiply_add(v_edge, shear_z * b[kz], w_edge * (shear_z * c[kz])));
   const T inv_det = T(1) / det;
   const T t = t_times_det * inv_det;
   if (!(t > ray.tmin && t < ray.tmax)) return {};
