@@ -30,18 +30,12 @@ struct ChapterOptions {
   DisplayChoice display;
 };
 
-std::string scientific(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1e", value);
-  return text;
-}
-
 ReportRow error_row(std::string variant, Backend backend, const Timing& timing, Extent extent,
                     const FrameError& e) {
   const std::string text =
       group_digits(e.pixels_differing) + " px differ, " + group_digits(e.false_hits) +
       " false hits, " + group_digits(e.false_misses) + " false misses, max rel t err " +
-      scientific(e.max_relative_t_error) + ", " + group_digits(e.nan_pixels) + " NaN";
+      format_scientific(e.max_relative_t_error) + ", " + group_digits(e.nan_pixels) + " NaN";
   return {std::move(variant),
           to_string(backend),
           timing.median_ms,

@@ -10,6 +10,7 @@
 #include "frames.h"
 #include "orbit_controls.h"
 #include "rt/cuda_check.h"
+#include "rt/report.h"
 
 namespace rt::ch03 {
 namespace {
@@ -32,12 +33,6 @@ struct FrameTarget {
     }
   }
 };
-
-std::string fixed(double value, int digits) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
 
 } // namespace
 
@@ -116,9 +111,9 @@ WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec&
     if (stop - last_title > std::chrono::milliseconds(500)) {
       const double ms = frame_ms.back();
       const CameraSpec& c = controls.camera();
-      viewer.set_title(settings.title + " | " + fixed(1000.0 / ms, 0) + " fps, " +
-                       fixed(ms, 2) + " ms | eye " + fixed(c.eye.x, 2) + "," +
-                       fixed(c.eye.y, 2) + "," + fixed(c.eye.z, 2) +
+      viewer.set_title(settings.title + " | " + format_fixed(1000.0 / ms, 0) + " fps, " +
+                       format_fixed(ms, 2) + " ms | eye " + format_fixed(c.eye.x, 2) + "," +
+                       format_fixed(c.eye.y, 2) + "," + format_fixed(c.eye.z, 2) +
                        " | mouse: orbit/pan/zoom, WASDQE: move, R: reset, S: screenshot, "
                        "V: vsync, Esc: quit");
       last_title = stop;

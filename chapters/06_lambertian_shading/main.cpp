@@ -51,12 +51,6 @@ std::string variant_name(Variant v) {
   return std::string(v.smooth ? "smooth" : "flat") + (v.shadows ? ", shadows" : ", no shadows");
 }
 
-std::string fixed(double value, int digits) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
 // A frame rendered and timed on one backend by one kind of kernel.
 struct MeasuredFrame {
   Image image;
@@ -111,9 +105,10 @@ ReportRow frame_row(const std::string& name, Backend backend, const MeasuredFram
                 to_string(backend),
                 frame.timing.median_ms,
                 rays / (frame.timing.median_ms * 1e3),
-                group_digits(e.pixels_differing) + " px differ, RMSE " + fixed(e.rmse, 3) +
-                    ", " + group_digits(e.nan_pixels) + " NaN; " + registers + ", " +
-                    group_digits(static_cast<long long>(frame.bytes)) + " B" + extra,
+                group_digits(e.pixels_differing) + " px differ, RMSE " +
+                    format_fixed(e.rmse, 3) + ", " + group_digits(e.nan_pixels) + " NaN; " +
+                    registers + ", " + group_digits(static_cast<long long>(frame.bytes)) +
+                    " B" + extra,
                 {{"pixels_differing", double(e.pixels_differing)},
                  {"rmse_8bit", e.rmse},
                  {"nan_pixels", double(e.nan_pixels)},
@@ -284,7 +279,8 @@ int run(ChapterOptions& options) {
                          scene.description);
   report.add_context("lights", std::to_string(scene.lights.directional_count) +
                                    " directional, " + std::to_string(scene.lights.point_count) +
-                                   " point, ambient " + fixed(options.lights.ambient, 2));
+                                   " point, ambient " +
+                                   format_fixed(options.lights.ambient, 2));
   report.add_context("error column",
                      "pixels differing from the reference, RMSE of the 8-bit R, G, B values, "
                      "NaN pixels; registers per thread (GPU); scene bytes the kernel reads "
@@ -316,16 +312,6 @@ int run(ChapterOptions& options) {
   return 0;
 }
 
-// An on|off flag as a bool.
-CLI::Option* add_switch(CLI::App& app, const std::string& name, bool& value,
-                        const std::string& help) {
-  return app
-      .add_option_function<std::string>(
-          name, [&value](const std::string& text) { value = text == "on"; }, help)
-      ->check(CLI::IsMember({"on", "off"}))
-      ->default_str(value ? "on" : "off");
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -352,9 +338,9 @@ int main(int argc, char** argv) {
          "Normals for the image: flat (the face's) or smooth (interpolated vertex normals)")
       ->check(CLI::IsMember({"flat", "smooth"}))
       ->default_str("smooth");
-  add_switch(app, "--shadows", options.shadows, "Shadow rays for the image");
-  add_switch(app, "--point-light", options.lights.point_light,
-             "A point light above and in front of the scene");
+  add_on_off_option(app, "--shadows", options.shadows, "Shadow rays for the image");
+  add_on_off_option(app, "--point-light", options.lights.point_light,
+                    "A point light above and in front of the scene");
   app.add_option_function<std::vector<double>>(
          "--light-dir",
          [&](const std::vector<double>& v) {

@@ -23,18 +23,12 @@ namespace {
 
 using ch04::MeshHit;
 
-std::string fixed(double value, int digits) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-// Every k-th element of a list, about `count` of them: the rays checked against brute force.
-template <class T> std::vector<T> every_kth(std::span<const T> all, int count) {
+// The elements of `all` at `index`.
+template <class T>
+std::vector<T> pick(std::span<const T> all, const std::vector<std::size_t>& index) {
   std::vector<T> out;
-  if (all.empty() || count <= 0) return out;
-  const std::size_t step = std::max<std::size_t>(1, all.size() / std::size_t(count));
-  for (std::size_t i = 0; i < all.size(); i += step) out.push_back(all[i]);
+  out.reserve(index.size());
+  for (const std::size_t i : index) out.push_back(all[i]);
   return out;
 }
 
@@ -66,8 +60,9 @@ TracedBatch trace_batch(const BenchmarkOptions& o, Query query, const Bvh& bvh,
   }
   // The check: brute force (every triangle) on a sample of the rays, closest hits. An any-hit
   // query is checked for agreeing on hit or miss.
-  const std::vector<RayF> sample = every_kth(rays, o.check_rays);
-  std::vector<MeshHit> tree = every_kth(std::span<const MeshHit>(out.hits), o.check_rays);
+  const std::vector<std::size_t> index = every_kth_index(rays.size(), o.check_rays);
+  const std::vector<RayF> sample = pick(rays, index);
+  std::vector<MeshHit> tree = pick(std::span<const MeshHit>(out.hits), index);
   std::vector<MeshHit> brute(sample.size());
   if (o.backend == Backend::gpu) {
     const DeviceBuffer<RayF> d_sample{std::span<const RayF>(sample)};
@@ -102,7 +97,7 @@ ReportRow ray_row(const std::string& scene, RayType type, const BenchmarkOptions
   if (type == RayType::primary) {
     const auto hit = std::count_if(batch.hits.begin(), batch.hits.end(),
                                    [](const MeshHit& h) { return h.triangle >= 0; });
-    error += "; " + fixed(100.0 * double(hit) / double(pixels), 1) + "% of pixels hit";
+    error += "; " + format_fixed(100.0 * double(hit) / double(pixels), 1) + "% of pixels hit";
   }
   return {scene + ", " + to_string(type),
           to_string(o.backend),
@@ -166,6 +161,23 @@ Timing time_shaded_frame(const BenchmarkOptions& o, const ch05::ObjMesh& obj, co
 
 } // namespace
 
+ReportRow build_row(const std::string& variant, const Bvh& bvh) {
+  const BuildStats& s = bvh.stats;
+  const double triangles = double(bvh.triangles.size());
+  return {variant,
+          "cpu",
+          s.build_ms,
+          triangles / (s.build_ms * 1e3),
+          group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) + ", SAH cost " +
+              format_fixed(s.sah_cost, 1) + ", " + format_fixed(s.bytes_per_triangle, 1) +
+              " B/triangle (Mtriangles/s)",
+          {{"triangles", triangles},
+           {"nodes", double(s.nodes)},
+           {"depth", double(s.depth)},
+           {"sah_cost", s.sah_cost},
+           {"bytes_per_triangle", s.bytes_per_triangle}}};
+}
+
 std::vector<std::string> benchmark_set(const std::string& folder) {
   std::vector<std::string> found;
   for (const char* name : {"stanford-bunny", "armadillo-100k", "stanford-dragon", "conference",
@@ -226,12 +238,14 @@ std::vector<BenchmarkResult> run_benchmark(const std::vector<std::string>& scene
     result.mismatches += primary.check.mismatches;
 
     // Secondary rays from every primary hit: ao (any hit, short) and diffuse (closest).
+    if (o.backend == Backend::gpu) {
+      d_primary.emplace(std::span<const MeshHit>(primary.hits));
+      d_secondary.emplace(pixels);
+      d_pixels.emplace(pixels);
+    }
     for (const RayType type : {RayType::ao, RayType::diffuse}) {
       SecondaryRays secondary;
       if (o.backend == Backend::gpu) {
-        d_primary.emplace(std::span<const MeshHit>(primary.hits));
-        d_secondary.emplace(pixels);
-        d_pixels.emplace(pixels);
         const int count = secondary_rays_gpu(
             type, {d_vertices->data(), d_triangles->data(), int(mesh.triangles.size())},
             d_primary->data(), camera, radius, d_secondary->data(), d_pixels->data());
@@ -255,19 +269,8 @@ std::vector<BenchmarkResult> run_benchmark(const std::vector<std::string>& scene
 
     result.build_ms = bvh.stats.build_ms;
     result.bytes_per_triangle = bvh.stats.bytes_per_triangle;
-    report.add_row({name + ", build (" + std::string(to_string(o.build.method)) + ", CPU)",
-                    "cpu",
-                    bvh.stats.build_ms,
-                    double(mesh.triangles.size()) / (bvh.stats.build_ms * 1e3),
-                    group_digits(bvh.stats.nodes) + " nodes, depth " +
-                        std::to_string(bvh.stats.depth) + ", SAH cost " +
-                        fixed(bvh.stats.sah_cost, 1) + ", " +
-                        fixed(bvh.stats.bytes_per_triangle, 1) + " B/triangle (Mtriangles/s)",
-                    {{"triangles", double(mesh.triangles.size())},
-                     {"nodes", double(bvh.stats.nodes)},
-                     {"depth", double(bvh.stats.depth)},
-                     {"sah_cost", bvh.stats.sah_cost},
-                     {"bytes_per_triangle", bvh.stats.bytes_per_triangle}}});
+    report.add_row(
+        build_row(name + ", build (" + std::string(to_string(o.build.method)) + ", CPU)", bvh));
 
     if (o.end_to_end) {
       long long shadow_rays = 0;
@@ -279,7 +282,7 @@ std::vector<BenchmarkResult> run_benchmark(const std::vector<std::string>& scene
            to_string(o.backend),
            frame.median_ms,
            double(pixels + shadow_rays) / (frame.median_ms * 1e3),
-           fixed(1000.0 / frame.median_ms, 1) +
+           format_fixed(1000.0 / frame.median_ms, 1) +
                " frames/s: camera rays, tree, smooth Lambert, " + group_digits(shadow_rays) +
                " shadow rays, 8-bit pixels",
            {{"fps", 1000.0 / frame.median_ms}, {"shadow_rays", double(shadow_rays)}}});
@@ -317,8 +320,8 @@ const Anchor* anchor_for(const std::string& scene, const std::string& device) {
 }
 
 std::string with_share(double ours, const Anchor* a, double Anchor::*field) {
-  std::string text = fixed(ours, ours < 100 ? 1 : 0);
-  if (a != nullptr) text += " (" + fixed(100.0 * ours / (a->*field), 0) + "%)";
+  std::string text = format_fixed(ours, ours < 100 ? 1 : 0);
+  if (a != nullptr) text += " (" + format_fixed(100.0 * ours / (a->*field), 0) + "%)";
   return text;
 }
 
@@ -336,9 +339,11 @@ std::string summary_table(const std::vector<BenchmarkResult>& results,
     out << "| " << r.scene << " | " << group_digits(r.triangles) << " | "
         << with_share(r.mrays_primary, a, &Anchor::primary) << " | "
         << with_share(r.mrays_ao, a, &Anchor::ao) << " | "
-        << with_share(r.mrays_diffuse, a, &Anchor::diffuse) << " | " << fixed(r.build_ms, 0)
-        << " | " << fixed(r.bytes_per_triangle, 0) << " | "
-        << (r.frame_ms > 0 ? fixed(r.frame_ms, 2) + " (" + fixed(1000.0 / r.frame_ms, 0) + ")"
+        << with_share(r.mrays_diffuse, a, &Anchor::diffuse) << " | "
+        << format_fixed(r.build_ms, 0) << " | " << format_fixed(r.bytes_per_triangle, 0)
+        << " | "
+        << (r.frame_ms > 0 ? format_fixed(r.frame_ms, 2) + " (" +
+                                 format_fixed(1000.0 / r.frame_ms, 0) + ")"
                            : std::string("-"))
         << " |\n";
   }

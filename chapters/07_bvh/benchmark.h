@@ -34,6 +34,9 @@ struct BenchmarkResult {
   long long mismatches = 0; // sampled rays whose hit differs from brute force (not ties)
 };
 
+// The report row of a build: its time, Mtriangles/s, and the tree's statistics.
+ReportRow build_row(const std::string& variant, const Bvh& bvh);
+
 // The scenes of the benchmark set found in `folder` (stanford-bunny, armadillo-100k,
 // stanford-dragon, conference, sponza-dabrovic, as .obj.gz); empty if none is there.
 std::vector<std::string> benchmark_set(const std::string& folder);

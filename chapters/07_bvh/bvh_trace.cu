@@ -2,9 +2,7 @@
 #include "bvh_trace.h"
 
 #include <algorithm>
-#include <atomic>
 #include <string>
-#include <thread>
 
 #include "model_render.h"
 #include "rt/cuda_check.h"
@@ -87,21 +85,6 @@ void brute_force_gpu(TriangleVariant variant, const ch04::MeshView& mesh, const 
   RT_CUDA_CHECK_LAUNCH("brute_force_kernel");
 }
 
-// Rays are handed out in chunks: cheap load balancing when some rays cost far more than others.
-template <class Fn> void for_each_ray_cpu(std::size_t count, Fn fn) {
-  constexpr std::size_t k_chunk = 256;
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t start = next.fetch_add(k_chunk); start < count;
-         start = next.fetch_add(k_chunk))
-      for (std::size_t i = start; i < std::min(count, start + k_chunk); ++i) fn(i);
-  };
-  const int threads = std::max(1, std::min<int>(cpu_thread_count(), int(count / k_chunk) + 1));
-  std::vector<std::jthread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-}
-
 void trace_rays_cpu(Query query, TriangleVariant variant, const BvhView& bvh,
                     std::span<const RayF> rays, std::span<MeshHit> hits) {
   if (hits.size() != rays.size()) throw Error("trace_rays_cpu: one hit per ray");
@@ -131,6 +114,14 @@ std::vector<MeshHit> trace_rays(Backend backend, Query query, TriangleVariant va
                  d_hits.data());
   d_hits.download(hits);
   return hits;
+}
+
+std::vector<std::size_t> every_kth_index(std::size_t total, long long count) {
+  std::vector<std::size_t> out;
+  if (total == 0 || count <= 0) return out;
+  const std::size_t step = std::max<std::size_t>(1, total / static_cast<std::size_t>(count));
+  for (std::size_t i = 0; i < total; i += step) out.push_back(i);
+  return out;
 }
 
 HitAgreement compare_hits(std::span<const MeshHit> hits, std::span<const MeshHit> reference) {

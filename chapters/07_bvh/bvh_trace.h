@@ -2,8 +2,11 @@
 // benchmark's "traversal kernel": one thread per ray, rays in and hits out, nothing else.
 #pragma once
 
+#include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <span>
+#include <thread>
 #include <vector>
 
 #include "bvh.h"
@@ -31,6 +34,24 @@ private:
 void trace_rays_gpu(Query query, TriangleVariant variant, const BvhView& bvh, const RayF* rays,
                     int count, MeshHit* hits);
 
+// Runs fn(i) for every i in 0 .. count-1 on `threads` CPU threads (the calling one among them).
+// Rays are handed out in chunks of 256 from a shared counter: cheap load balancing when some
+// rays cost far more than others.
+template <class Fn>
+void for_each_ray_cpu(std::size_t count, Fn fn, int threads = cpu_thread_count()) {
+  constexpr std::size_t k_chunk = 256;
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t start = next.fetch_add(k_chunk); start < count;
+         start = next.fetch_add(k_chunk))
+      for (std::size_t i = start; i < std::min(count, start + k_chunk); ++i) fn(i);
+  };
+  threads = std::max(1, std::min<int>(threads, int(count / k_chunk) + 1));
+  std::vector<std::jthread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+}
+
 // The same on CPU cores (host memory), through the same RT_HD traversal.
 void trace_rays_cpu(Query query, TriangleVariant variant, const BvhView& bvh,
                     std::span<const RayF> rays, std::span<MeshHit> hits);
@@ -43,6 +64,11 @@ std::vector<MeshHit> trace_rays(Backend backend, Query query, TriangleVariant va
 // row the tree is measured against. Device memory in and out.
 void brute_force_gpu(TriangleVariant variant, const ch04::MeshView& mesh, const RayF* rays,
                      int count, MeshHit* hits);
+
+// About `count` evenly spaced indices of 0 .. total-1 (every k-th, k = total / count): the
+// sample of a batch that a slower reference (brute force, float64) traces. Empty when either
+// is zero.
+std::vector<std::size_t> every_kth_index(std::size_t total, long long count);
 
 // Two hit lists of the same rays compared: a tie is the same distance on another triangle
 // (which of the two a search keeps depends on the order it tests them in); anything else

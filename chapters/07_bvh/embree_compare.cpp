@@ -25,6 +25,7 @@
 #include <embree3/rtcore.h>
 
 #include "bvh_build.h"
+#include "bvh_trace.h"
 #include "obj_loader.h"
 #include "protocol.h"
 #include "rt/backend.h"
@@ -49,18 +50,6 @@ struct CompareOptions {
   std::vector<std::string> scenes;  // OBJ files (plain or gzip'd)
   bool robust = false;              // Embree's robust mode (RTC_SCENE_FLAG_ROBUST)
 };
-
-std::string fixed(double value, int digits) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-std::string scientific(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1e", value);
-  return text;
-}
 
 std::string stem_of(const std::string& path) {
   std::string name = std::filesystem::path(path).filename().string();
@@ -197,21 +186,8 @@ MeshHit embree_any(RTCScene scene, const RayF& r) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The thread pool both tracers share: `threads` threads (the calling one among them) take
-// chunks of 256 consecutive rays from a shared counter until none is left, the schedule that
-// trace_rays_cpu uses. Chunks balance the load: some rays cost far more than others.
-template <class Fn> void for_each_ray(std::size_t count, int threads, Fn fn) {
-  constexpr std::size_t k_chunk = 256;
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t start = next.fetch_add(k_chunk); start < count;
-         start = next.fetch_add(k_chunk))
-      for (std::size_t i = start; i < std::min(count, start + k_chunk); ++i) fn(i);
-  };
-  std::vector<std::jthread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-}
+// Both tracers share chapter 07's CPU loop (for_each_ray_cpu): chunks of 256 consecutive rays
+// from a shared counter, on the same threads; only the call inside it differs.
 
 struct Traced {
   std::vector<MeshHit> hits;
@@ -234,7 +210,8 @@ TracedPair trace_both(const CompareOptions& o, std::span<const RayF> rays, Ours 
   out.embree.hits.resize(rays.size());
   auto run = [&](auto& trace, std::vector<MeshHit>& hits) {
     const auto start = std::chrono::steady_clock::now();
-    for_each_ray(rays.size(), o.threads, [&](std::size_t i) { hits[i] = trace(rays[i]); });
+    for_each_ray_cpu(
+        rays.size(), [&](std::size_t i) { hits[i] = trace(rays[i]); }, o.threads);
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
         .count();
   };
@@ -351,7 +328,7 @@ std::string agreement_text(RayType type, const Agreement& a) {
   return group_digits(a.differ) + " of " + group_digits(a.rays) +
          " ids differ: " + group_digits(a.same_t) + " at the same t, " +
          group_digits(elsewhere) + " at another t, " + misses + "; same id: max rel dt " +
-         scientific(a.max_relative_dt);
+         format_scientific(a.max_relative_dt);
 }
 
 void compare_scene(const std::string& path, const CompareOptions& o, RTCDevice device,
@@ -398,20 +375,20 @@ void compare_scene(const std::string& path, const CompareOptions& o, RTCDevice d
       100.0 * double(rows[1].rays) / double(std::max<std::size_t>(1, camera_rays.size()));
   std::cout
       << "\n### " << name << ": " << group_digits(static_cast<long long>(mesh.triangles.size()))
-      << " triangles, " << o.width << "x" << o.height << " (" << fixed(hit_share, 1)
+      << " triangles, " << o.width << "x" << o.height << " (" << format_fixed(hit_share, 1)
       << "% of pixels hit), " << o.threads << (o.threads == 1 ? " thread" : " threads")
       << "\n\n| rays | count | ours Mrays/s | Embree Mrays/s | ours/Embree | agreement |\n"
          "|---|---|---|---|---|---|\n";
   for (const RayRow& r : rows)
     std::cout << "| " << to_string(r.type) << " | "
-              << group_digits(static_cast<long long>(r.rays)) << " | " << fixed(r.ours, 2)
-              << " | " << fixed(r.embree, 2) << " | "
-              << fixed(r.embree > 0 ? r.ours / r.embree : 0.0, 2) << " | "
+              << group_digits(static_cast<long long>(r.rays)) << " | "
+              << format_fixed(r.ours, 2) << " | " << format_fixed(r.embree, 2) << " | "
+              << format_fixed(r.embree > 0 ? r.ours / r.embree : 0.0, 2) << " | "
               << agreement_text(r.type, r.agreement) << " |\n";
-  std::cout << "\nbuild: ours " << fixed(ours_build_s, 3)
-            << " s (binned SAH, 1 thread, SAH cost " << fixed(bvh.stats.sah_cost, 1)
-            << "), Embree " << fixed(embree_build_s, 3) << " s (high quality, " << o.threads
-            << (o.threads == 1 ? " thread)" : " threads)") << "\n";
+  std::cout << "\nbuild: ours " << format_fixed(ours_build_s, 3)
+            << " s (binned SAH, 1 thread, SAH cost " << format_fixed(bvh.stats.sah_cost, 1)
+            << "), Embree " << format_fixed(embree_build_s, 3) << " s (high quality, "
+            << o.threads << (o.threads == 1 ? " thread)" : " threads)") << "\n";
 
   // The same figures as report rows, for --json.
   for (const RayRow& r : rows) {

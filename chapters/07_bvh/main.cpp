@@ -65,26 +65,6 @@ struct ChapterOptions {
   bool end_to_end = true;
 };
 
-std::string fixed(double value, int digits) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-std::string scientific(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1e", value);
-  return text;
-}
-
-// Every k-th ray of the frame, about `count` of them.
-std::vector<std::size_t> sample_indices(std::size_t total, long long count) {
-  std::vector<std::size_t> out;
-  const std::size_t step = std::max<std::size_t>(1, total / std::size_t(std::max(1LL, count)));
-  for (std::size_t i = 0; i < total; i += step) out.push_back(i);
-  return out;
-}
-
 // The float64 reference of a few rays: every triangle, in double, on the float rays.
 struct Reference {
   std::vector<std::size_t> index; // which rays of the frame
@@ -93,7 +73,7 @@ struct Reference {
 
 Reference trace_reference(const ch04::Mesh& mesh, const std::vector<RayF>& rays,
                           long long count) {
-  Reference ref{sample_indices(rays.size(), count), {}};
+  Reference ref{every_kth_index(rays.size(), count), {}};
   ref.hits.resize(ref.index.size());
   const ch04::MeshView view = ch04::host_view(mesh);
   for_each_pixel_cpu({static_cast<int>(ref.index.size()), 1}, [&](int k, int) {
@@ -121,7 +101,7 @@ std::string error_against(const Reference& ref, const std::vector<MeshHit>& hits
   row.metrics.emplace_back("max_rel_t_error", worst);
   return group_digits(differ) + " of " +
          group_digits(static_cast<long long>(ref.index.size())) +
-         " ids differ from float64, max rel t err " + scientific(worst);
+         " ids differ from float64, max rel t err " + format_scientific(worst);
 }
 
 struct FrameRays {
@@ -166,22 +146,13 @@ void report_variants(const ChapterOptions& options, const std::vector<Backend>& 
   const TriangleVariant variant = options.variant;
 
   std::vector<Bvh> trees;
+  std::vector<TraversalWork> work; // per tree: the same on both backends, counted once
   for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
     BuildOptions build = options.build;
     build.method = method;
     trees.push_back(build_bvh(mesh, build));
-    const BuildStats& s = trees.back().stats;
-    report.add_row({std::string("build, ") + to_string(method),
-                    "cpu",
-                    s.build_ms,
-                    double(mesh.triangles.size()) / (s.build_ms * 1e3),
-                    group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) +
-                        ", SAH cost " + fixed(s.sah_cost, 1) + ", " +
-                        fixed(s.bytes_per_triangle, 1) + " B/triangle (Mtriangles/s)",
-                    {{"nodes", double(s.nodes)},
-                     {"depth", double(s.depth)},
-                     {"sah_cost", s.sah_cost},
-                     {"bytes_per_triangle", s.bytes_per_triangle}}});
+    report.add_row(build_row(std::string("build, ") + to_string(method), trees.back()));
+    work.push_back(measure_work(Query::closest, variant, trees.back().view(), frame.rays));
   }
 
   std::optional<std::vector<MeshHit>> brute_hits; // the GPU's brute force, all pixels
@@ -235,7 +206,8 @@ void report_variants(const ChapterOptions& options, const std::vector<Backend>& 
                   " sampled rays, frame time extrapolated";
       report.add_row(row);
     }
-    for (const Bvh& bvh : trees) {
+    for (std::size_t k = 0; k < trees.size(); ++k) {
+      const Bvh& bvh = trees[k];
       std::optional<DeviceBvh> d_bvh;
       if (backend == Backend::gpu) d_bvh.emplace(bvh);
       const Traced traced = trace_frame(
@@ -248,7 +220,6 @@ void report_variants(const ChapterOptions& options, const std::vector<Backend>& 
             trace_rays_cpu(Query::closest, variant, bvh.view(), frame.rays, hits);
           },
           count, timing_plan(backend, options.common.frames));
-      const TraversalWork work = measure_work(Query::closest, variant, bvh.view(), frame.rays);
       ReportRow row{std::string("BVH, ") + to_string(bvh.options.method),
                     to_string(backend),
                     traced.timing.median_ms,
@@ -262,10 +233,10 @@ void report_variants(const ChapterOptions& options, const std::vector<Backend>& 
                      group_digits(a.ties) + " exact ties)";
         row.metrics.emplace_back("brute_force_mismatches", double(a.mismatches));
       }
-      row.error += "; " + fixed(work.nodes_per_ray, 1) + " nodes, " +
-                   fixed(work.triangles_per_ray, 1) + " triangles per ray";
-      row.metrics.emplace_back("nodes_per_ray", work.nodes_per_ray);
-      row.metrics.emplace_back("triangles_per_ray", work.triangles_per_ray);
+      row.error += "; " + format_fixed(work[k].nodes_per_ray, 1) + " nodes, " +
+                   format_fixed(work[k].triangles_per_ray, 1) + " triangles per ray";
+      row.metrics.emplace_back("nodes_per_ray", work[k].nodes_per_ray);
+      row.metrics.emplace_back("triangles_per_ray", work[k].triangles_per_ray);
       if (backend == Backend::gpu) {
         const int regs = trace_kernel_registers(Query::closest, variant);
         row.error += ", " + std::to_string(regs) + " regs";
@@ -320,12 +291,12 @@ void report_variants(const ChapterOptions& options, const std::vector<Backend>& 
                       "gpu",
                       timing.median_ms,
                       double(count) / (timing.median_ms * 1e3),
-                      fixed(1000.0 / timing.median_ms, 1) + " frames/s",
+                      format_fixed(1000.0 / timing.median_ms, 1) + " frames/s",
                       {{"fps", 1000.0 / timing.median_ms}}});
       brute_image = std::move(image);
     }
     auto [image, timing] = run(true);
-    std::string error = fixed(1000.0 / timing.median_ms, 1) + " frames/s";
+    std::string error = format_fixed(1000.0 / timing.median_ms, 1) + " frames/s";
     const Image* against = brute_image ? &*brute_image : (gpu_image ? &*gpu_image : nullptr);
     long long differing = -1;
     if (against != nullptr) {
@@ -391,7 +362,7 @@ void run_window(const ChapterOptions& options, Backend backend, ch02::Viewer& vi
                   shown.frame_time.median_ms,
                   double(shown.last_screen.width) * shown.last_screen.height /
                       (shown.frame_time.median_ms * 1e3),
-                  fixed(1000.0 / shown.frame_time.median_ms, 1) + " frames/s on screen",
+                  format_fixed(1000.0 / shown.frame_time.median_ms, 1) + " frames/s on screen",
                   {{"fps", 1000.0 / shown.frame_time.median_ms}}});
   if (options.common.frames > 0 && !options.common.output.empty()) {
     write_image(options.common.output, shown.last_screen);
@@ -415,7 +386,8 @@ int run_ray_file(const ChapterOptions& options, Backend backend, const ch04::Mes
       std::count_if(hits.begin(), hits.end(), [](const MeshHit& h) { return h.triangle >= 0; });
   std::cout << "traced " << group_digits(static_cast<long long>(rays.size())) << " rays on "
             << describe_backend(backend) << ": " << group_digits(hit_count) << " hit, "
-            << fixed(ms, 1) << " ms with the upload; wrote " << options.hits_path << "\n";
+            << format_fixed(ms, 1) << " ms with the upload; wrote " << options.hits_path
+            << "\n";
   return 0;
 }
 
@@ -588,11 +560,7 @@ int main(int argc, char** argv) {
          "Normals for the image: flat or smooth")
       ->check(CLI::IsMember({"flat", "smooth"}))
       ->default_str("smooth");
-  app.add_option_function<std::string>(
-         "--shadows", [&](const std::string& text) { options.shadows = text == "on"; },
-         "Shadow rays for the image")
-      ->check(CLI::IsMember({"on", "off"}))
-      ->default_str("on");
+  add_on_off_option(app, "--shadows", options.shadows, "Shadow rays for the image");
   app.add_option("--reference-pixels", options.reference_pixels,
                  "Rays the float64 reference traces (every triangle, in double)")
       ->check(CLI::Range(1LL, 1LL << 20))
@@ -624,11 +592,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--models", options.models_dir, "Where --benchmark finds the benchmark set")
       ->capture_default_str();
-  app.add_option_function<std::string>(
-         "--end-to-end", [&](const std::string& text) { options.end_to_end = text == "on"; },
-         "With --benchmark: also time the shaded frame")
-      ->check(CLI::IsMember({"on", "off"}))
-      ->default_str("on");
+  add_on_off_option(app, "--end-to-end", options.end_to_end,
+                    "With --benchmark: also time the shaded frame");
   ch03::add_display_options(app, options.display);
   return run_main(app, argc, argv, [&] {
     options.eye_given = app.get_option("--eye")->count() > 0;

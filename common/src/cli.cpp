@@ -23,6 +23,15 @@ CLI::Validator finite_range(double lo, double hi) {
       "FINITE in [" + CLI::detail::to_string(lo) + " - " + CLI::detail::to_string(hi) + "]");
 }
 
+CLI::Option* add_on_off_option(CLI::App& app, const std::string& name, bool& value,
+                               const std::string& help) {
+  return app
+      .add_option_function<std::string>(
+          name, [&value](const std::string& text) { value = text == "on"; }, help)
+      ->check(CLI::IsMember({"on", "off"}))
+      ->default_str(value ? "on" : "off");
+}
+
 void add_common_options(CLI::App& app, CommonOptions& options) {
   const auto side = CLI::Range(1, k_max_image_side);
   app.add_option("--width", options.width, "Image width in pixels")

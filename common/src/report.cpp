@@ -24,20 +24,26 @@ void Report::add_context(std::string key, std::string value) {
 
 void Report::add_row(ReportRow row) { rows_.push_back(std::move(row)); }
 
-namespace {
-
-std::string fixed(double value, int decimals) {
+std::string format_fixed(double value, int decimals) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(decimals) << value;
   return s.str();
 }
 
+std::string format_scientific(double value, int digits) {
+  std::ostringstream s;
+  s << std::scientific << std::setprecision(digits) << value;
+  return s.str();
+}
+
+namespace {
+
 // Three significant figures, never scientific notation for the ranges a report shows.
 std::string figure(double value) {
   if (value >= 100.0) return group_digits(static_cast<long long>(value + 0.5));
-  if (value >= 10.0) return fixed(value, 1);
-  if (value >= 1.0) return fixed(value, 2);
-  return fixed(value, 3);
+  if (value >= 10.0) return format_fixed(value, 1);
+  if (value >= 1.0) return format_fixed(value, 2);
+  return format_fixed(value, 3);
 }
 
 } // namespace

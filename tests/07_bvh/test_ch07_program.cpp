@@ -9,10 +9,11 @@
 #include <string>
 #include <vector>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "rt_catch.h"
+
+#include "run_program.h"
 
 #include "bvh_trace.h"
 #include "obj_loader.h"
@@ -24,22 +25,11 @@ using namespace rt::ch07;
 
 namespace {
 
-struct ProgramRun {
-  int exit_code = -1;
-  std::string output;
-};
+using rt::testing::ProgramRun;
 
 ProgramRun run_program(const std::string& arguments) {
-  const std::string command =
-      std::string(RT_CH07_PROGRAM) + " --headless --backend cpu " + arguments + " 2>&1";
-  ProgramRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) run.output += buffer;
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return rt::testing::run_command(std::string(RT_CH07_PROGRAM) + " --headless --backend cpu " +
+                                  arguments);
 }
 
 int line_count(const std::string& text) {

@@ -29,6 +29,11 @@ struct CommonOptions {
 // NaN through, since every comparison with NaN is false.)
 CLI::Validator finite_range(double lo, double hi);
 
+// An option taking on|off, stored as a bool (e.g. --shadows on). Its default is the bool's
+// value when added.
+CLI::Option* add_on_off_option(CLI::App& app, const std::string& name, bool& value,
+                               const std::string& help);
+
 // Adds --width, --height, --output, --backend, --frames and --json to `app`.
 void add_common_options(CLI::App& app, CommonOptions& options);
 

@@ -46,4 +46,9 @@ private:
 // Formats a count with thin grouping ("1 812") as the report prints it.
 std::string group_digits(long long value);
 
+// A number with a fixed count of decimals ("0.231"), and in scientific notation ("1.9e-07"),
+// for the text of a row's error column.
+std::string format_fixed(double value, int decimals);
+std::string format_scientific(double value, int digits = 1);
+
 } // namespace rt
