@@ -85,11 +85,17 @@ inline constexpr int k_max_bvh_depth = 64;
 inline constexpr int k_max_leaf_size = 64;
 
 // What the traversal reads: host pointers on the CPU, device pointers on the GPU.
+// The traversal reads a tree only through node(), triangle(), triangle_id() and node_count, so
+// a later chapter can hand it the same tree stored another way (chapter 08's memory paths).
 struct BvhView {
   const BvhNode* nodes = nullptr;       // node_count nodes; node 0 is the root
   const TriangleF* triangles = nullptr; // in leaf order
   const int* triangle_ids = nullptr;    // triangle_ids[k]: the mesh's number of triangles[k]
   int node_count = 0;                   // 0 only for a mesh with no triangles
+
+  RT_HD const BvhNode& node(int i) const { return nodes[i]; }
+  RT_HD const TriangleF& triangle(int k) const { return triangles[k]; }
+  RT_HD int triangle_id(int k) const { return triangle_ids[k]; }
 };
 
 enum class SplitMethod { median, sah };

@@ -11,16 +11,20 @@
 
 namespace rt::ch07 {
 
-struct BvhGeometry {
-  BvhView bvh;         // the tree and its leaf-ordered triangle copies
+// The geometry a shaded scene traces: a tree (BvhView, or any type the traversal accepts, as
+// in chapter 08) and the mesh it was built from.
+template <class Tree> struct BvhGeometryOf {
+  Tree bvh;            // the tree and its leaf-ordered triangle copies
   ch04::MeshView mesh; // the mesh itself, by the mesh's triangle numbers (for shading)
 };
 
+using BvhGeometry = BvhGeometryOf<BvhView>;
 using BvhSceneView = ch06::SceneViewOf<BvhGeometry>;
 
 // [listing:bvh_geometry]
-template <class T>
-RT_HD ch06::SurfaceHit<T> closest_surface(const BvhGeometry& g, const ch03::Ray<T>& ray) {
+template <class T, class Tree>
+RT_HD ch06::SurfaceHit<T> closest_surface(const BvhGeometryOf<Tree>& g,
+                                          const ch03::Ray<T>& ray) {
   if constexpr (std::is_same_v<T, float>) {
     const TraceHit hit = trace_bvh<Query::closest, TriangleVariant::watertight>(g.bvh, ray);
     return {hit.t, hit.triangle, hit.u, hit.v};
@@ -29,7 +33,8 @@ RT_HD ch06::SurfaceHit<T> closest_surface(const BvhGeometry& g, const ch03::Ray<
   }
 }
 
-template <class T> RT_HD bool occluded(const BvhGeometry& g, const ch03::Ray<T>& ray) {
+template <class T, class Tree>
+RT_HD bool occluded(const BvhGeometryOf<Tree>& g, const ch03::Ray<T>& ray) {
   if constexpr (std::is_same_v<T, float>)
     return trace_bvh<Query::any, TriangleVariant::watertight>(g.bvh, ray).triangle >= 0;
   else
@@ -37,12 +42,14 @@ template <class T> RT_HD bool occluded(const BvhGeometry& g, const ch03::Ray<T>&
 }
 // [/listing:bvh_geometry]
 
-template <class T> RT_HD ch04::Triangle<T> triangle_as(const BvhGeometry& g, int i) {
+template <class T, class Tree>
+RT_HD ch04::Triangle<T> triangle_as(const BvhGeometryOf<Tree>& g, int i) {
   return ch06::triangle_as<T>(g.mesh, i);
 }
 
 // Chapter 06's scene view with the tree added.
-inline BvhSceneView with_bvh(const ch06::SceneView& scene, const BvhView& bvh) {
+template <class Tree>
+ch06::SceneViewOf<BvhGeometryOf<Tree>> with_bvh(const ch06::SceneView& scene, const Tree& bvh) {
   return {{bvh, scene.mesh},    scene.material, scene.normals,
           scene.normal_indices, scene.palette,  scene.lights};
 }

@@ -103,14 +103,14 @@ struct Counters {
 // The triangles of one leaf against the ray; tmax shrinks with every hit, so later tests
 // (in this leaf and in every box after it) only accept nearer ones. True when the query is
 // answered: any hit at all, for Query::any.
-template <Query kQuery, TriangleVariant kVariant, class C>
-RT_HD bool intersect_leaf(const BvhView& bvh, int first, int count, RayF& ray, TraceHit& hit,
+template <Query kQuery, TriangleVariant kVariant, class Tree, class C>
+RT_HD bool intersect_leaf(const Tree& bvh, int first, int count, RayF& ray, TraceHit& hit,
                           C& counters) {
   for (int k = first; k < first + count; ++k) {
     counters.triangle();
-    const ch04::TriangleHitF h = ch04::intersect_triangle(kVariant, ray, bvh.triangles[k]);
+    const ch04::TriangleHitF h = ch04::intersect_triangle(kVariant, ray, bvh.triangle(k));
     if (!h.hit) continue;
-    hit = {h.t, bvh.triangle_ids[k], h.u, h.v};
+    hit = {h.t, bvh.triangle_id(k), h.u, h.v};
     ray.tmax = h.t;
     if (kQuery == Query::any) return true;
   }
@@ -127,8 +127,11 @@ RT_HD bool intersect_leaf(const BvhView& bvh, int first, int count, RayF& ray, T
 // next and the other is pushed on the stack. The stack holds at most one node per level
 // above the current one, and the build keeps every interior node above depth
 // k_max_bvh_depth: the fixed array below cannot overflow.
-template <Query kQuery, TriangleVariant kVariant, class C = NoCounters>
-RT_HD TraceHit trace_bvh(const BvhView& bvh, RayF ray, C&& counters = C{}) {
+//
+// `Tree` is BvhView here; it may be any type with the same node(), triangle(), triangle_id()
+// and node_count (chapter 08 reads the same tree through other memory paths).
+template <Query kQuery, TriangleVariant kVariant, class Tree, class C = NoCounters>
+RT_HD TraceHit trace_bvh(const Tree& bvh, RayF ray, C&& counters = C{}) {
   TraceHit hit;
   if (bvh.node_count == 0 || !traceable(ray)) return hit;
   const BoxRay box_ray = make_box_ray(ray);
@@ -137,7 +140,7 @@ RT_HD TraceHit trace_bvh(const BvhView& bvh, RayF ray, C&& counters = C{}) {
   int node = 0; // the root
   for (;;) {
     counters.node();
-    const BvhNode& n = bvh.nodes[node];
+    decltype(auto) n = bvh.node(node); // a reference into memory, or a copy just loaded
     float t0 = 0.0f, t1 = 0.0f;
     bool enter0 = enter_box(n.box[0], box_ray, ray.tmin, ray.tmax, t0);
     bool enter1 = enter_box(n.box[1], box_ray, ray.tmin, ray.tmax, t1);
@@ -170,8 +173,8 @@ RT_HD TraceHit trace_bvh(const BvhView& bvh, RayF ray, C&& counters = C{}) {
 // [/listing:traverse]
 
 // The variant chosen at run time (the CPU paths and tests), compiled in for both.
-template <Query kQuery, class C = NoCounters>
-RT_HD TraceHit trace_bvh(TriangleVariant variant, const BvhView& bvh, const RayF& ray,
+template <Query kQuery, class Tree, class C = NoCounters>
+RT_HD TraceHit trace_bvh(TriangleVariant variant, const Tree& bvh, const RayF& ray,
                          C&& counters = C{}) {
   return variant == TriangleVariant::watertight
              ? trace_bvh<kQuery, TriangleVariant::watertight>(bvh, ray, counters)
