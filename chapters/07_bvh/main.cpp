@@ -26,6 +26,7 @@
 #include "obj_loader.h"
 #include "protocol.h"
 #include "ray_io.h"
+#include "reference.h"
 #include "rt/backend_image.h"
 #include "rt/cli.h"
 #include "rt/report.h"
@@ -64,45 +65,6 @@ struct ChapterOptions {
   std::string models_dir = RT_SHARED_MODELS_DIR;
   bool end_to_end = true;
 };
-
-// The float64 reference of a few rays: every triangle, in double, on the float rays.
-struct Reference {
-  std::vector<std::size_t> index; // which rays of the frame
-  std::vector<ch06::SurfaceHit<double>> hits;
-};
-
-Reference trace_reference(const ch04::Mesh& mesh, const std::vector<RayF>& rays,
-                          long long count) {
-  Reference ref{every_kth_index(rays.size(), count), {}};
-  ref.hits.resize(ref.index.size());
-  const ch04::MeshView view = ch04::host_view(mesh);
-  for_each_pixel_cpu({static_cast<int>(ref.index.size()), 1}, [&](int k, int) {
-    ref.hits[k] = ch06::closest_surface(view, ch03::ray_as<double>(rays[ref.index[k]]));
-  });
-  return ref;
-}
-
-// Hits of the whole frame against the reference's few: triangles that differ, and the worst
-// relative error of t where the triangle is the same.
-std::string error_against(const Reference& ref, const std::vector<MeshHit>& hits,
-                          ReportRow& row) {
-  long long differ = 0;
-  double worst = 0.0;
-  for (std::size_t k = 0; k < ref.index.size(); ++k) {
-    const MeshHit h = hits[ref.index[k]];
-    const ch06::SurfaceHit<double>& r = ref.hits[k];
-    if (h.triangle != r.triangle) {
-      ++differ;
-    } else if (r.triangle >= 0) {
-      worst = std::max(worst, std::abs(double(h.t) - r.t) / r.t);
-    }
-  }
-  row.metrics.emplace_back("reference_ids_differing", double(differ));
-  row.metrics.emplace_back("max_rel_t_error", worst);
-  return group_digits(differ) + " of " +
-         group_digits(static_cast<long long>(ref.index.size())) +
-         " ids differ from float64, max rel t err " + format_scientific(worst);
-}
 
 struct FrameRays {
   std::vector<RayF> rays;

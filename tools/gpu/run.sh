@@ -6,10 +6,12 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window models bench
+#   tests memcheck reports window models bench sass profile
 # `models` renders the real models of RT_MODELS (default: ../shared/models beside the checkout,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
-# the window; `bench` runs chapter 07's benchmark protocol on them.
+# the window; `bench` runs chapter 07's benchmark protocol on them, and chapter 08's memory
+# paths. `sass` counts the load instructions of chapter 08's kernels in the machine code
+# (cuobjdump); `profile` reads their cache hit rates with Nsight Compute (ncu), where it runs.
 #
 # Offline machines: run tools/gpu/fetch-debs.sh where there is internet, copy .gpu-debs/ (and
 # .gpu-x11/ for the window test) along; this script unpacks them into private prefixes
@@ -21,7 +23,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window models bench} "
+steps=" ${RT_STEPS:-tests memcheck reports window models bench sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -97,13 +99,14 @@ export RT_SYNC_CHECK=1
 wanted tests && step tests ctest --preset native --output-junit "$logdir/ctest.xml" ${RT_CTEST_ARGS:-}
 
 if wanted memcheck; then
-  for exe in build/native/bin/ch*; do
+  for exe in build/native/bin/${RT_MEMCHECK:-ch*}; do # RT_MEMCHECK narrows it (e.g. "ch08*")
     name=$(basename "$exe")
     extra=()
     [ "$name" = ch04_moller_trumbore ] && extra=(--leak-rays 20000)
     [ "$name" = ch05_obj_loading ] && extra=(--scene assets/smooth_torus.obj.gz --scaling-max 2)
     [ "$name" = ch06_lambertian_shading ] && extra=(--skip-cpu)
     [ "$name" = ch07_bvh ] && extra=(--skip-cpu)
+    [ "$name" = ch08_texture_memory ] && extra=(--skip-cpu --reference-rays 64)
     step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
       --output "$logdir/$name-memcheck.png"
@@ -158,6 +161,27 @@ if wanted bench && [ -d "$models" ] && [ -x build/native/bin/ch07_bvh ]; then
   step bench build/native/bin/ch07_bvh --backend gpu --benchmark --models "$models" \
     --json "$logdir/bench.json"
   cat "$logdir/bench.log"
+fi
+if wanted bench && [ -d "$models" ] && [ -x build/native/bin/ch08_texture_memory ]; then
+  step bench_ch08 build/native/bin/ch08_texture_memory --backend gpu --benchmark \
+    --models "$models" --json "$logdir/bench_ch08.json"
+  cat "$logdir/bench_ch08.log"
+fi
+# Chapter 08's kernels as the GPU runs them: load instructions per kernel, and cache hit rates.
+if wanted sass && [ -x build/native/bin/ch08_texture_memory ]; then
+  step sass tools/sass-loads.py build/native/bin/ch08_texture_memory
+  cat "$logdir/sass.log"
+fi
+if wanted profile && [ -x build/native/bin/ch08_texture_memory ]; then
+  if command -v ncu >/dev/null; then
+    scene="$models/${RT_PROFILE_SCENE:-conference}.obj.gz"
+    [ -f "$scene" ] || scene=assets/torus_knot_100k.obj.gz
+    step profile tools/profile-paths.sh build/native/bin/ch08_texture_memory "$scene" \
+      "$logdir/profile.csv"
+    cat "$logdir/profile.log"
+  else
+    echo "== profile: skipped, no ncu on this machine"
+  fi
 fi
 grep -h -E "tests passed|tests failed" "$logdir/tests.log" 2>/dev/null
 exit $status

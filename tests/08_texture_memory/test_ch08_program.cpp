@@ -1,0 +1,121 @@
+// Chapter 08 tests of the program itself on the CPU: the report traces every path the CPU has
+// and says each gives chapter 07's hits (in the text and in the JSON), the benchmark mode on a
+// small scene, and bad input (GPU-only paths on the CPU, unknown paths, bad options) ending in
+// one error line and a non-zero exit.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "rt_catch.h"
+
+#include "run_program.h"
+
+namespace {
+
+using rt::testing::ProgramRun;
+
+ProgramRun run_program(const std::string& arguments) {
+  return rt::testing::run_command(std::string(RT_CH08_PROGRAM) + " --headless --backend cpu " +
+                                  arguments);
+}
+
+int line_count(const std::string& text) {
+  int lines = 0;
+  for (const char c : text) lines += c == '\n';
+  return lines;
+}
+
+std::filesystem::path temp_folder() {
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("rt_ch08_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
+const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
+
+} // namespace
+
+TEST_CASE("program: the report traces the CPU's paths, each with chapter 07's hits", "[ch08]") {
+  const std::filesystem::path folder = temp_folder();
+  const std::string json = (folder / "report.json").string();
+  const std::string image = (folder / "room.png").string();
+  const ProgramRun run = run_program("--scene " + k_room +
+                                     " --width 64 --height 36 --frames 1 --reference-rays 64 "
+                                     "--json " +
+                                     json + " --output " + image);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  for (const char* type : {"primary", "ao", "diffuse"})
+    for (const char* path : {"global", "float4"})
+      CHECK_THAT(run.output, rt::testing::contains(std::string("cornell_room, ") + type + ", " +
+                                                   path + "  "));
+  CHECK_THAT(run.output, !rt::testing::contains("differ from chapter 07"));
+  CHECK_THAT(run.output, rt::testing::contains("ids differ from float64"));
+  CHECK(std::filesystem::file_size(image) > 100);
+
+  std::ifstream in(json);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  int rows = 0;
+  for (const auto& row : report.at("rows")) {
+    CAPTURE(row.at("variant").get<std::string>());
+    CHECK(row.at("backend") == "cpu");
+    CHECK(row.at("metrics").at("differing_from_ch07").get<double>() == 0.0);
+    CHECK(row.at("metrics").at("mrays_per_s").get<double>() > 0.0);
+    ++rows;
+  }
+  CHECK(rows == 6); // 3 ray types x the CPU's 2 paths
+}
+
+TEST_CASE("program: --memory narrows the paths measured", "[ch08]") {
+  const ProgramRun run = run_program("--scene " + k_room +
+                                     " --width 32 --height 18 --frames 1 --reference-rays 16 "
+                                     "--memory float4 --output ''");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, rt::testing::contains("cornell_room, primary, float4"));
+  CHECK_THAT(run.output, !rt::testing::contains("cornell_room, primary, global"));
+}
+
+TEST_CASE("program: the benchmark mode on a small scene", "[ch08]") {
+  const ProgramRun run =
+      run_program("--benchmark " + k_room + " --width 48 --height 27 --frames 1");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, rt::testing::contains("| cornell_room |"));
+  CHECK_THAT(run.output, rt::testing::contains("diffuse rays, Mrays/s"));
+  CHECK_THAT(run.output, !rt::testing::contains("DIFFERS"));
+}
+
+TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch08]") {
+  const std::filesystem::path folder = temp_folder();
+  struct Case {
+    std::string arguments;
+    int exit_code;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"--memory texture --scene " + k_room, 2, "needs the GPU"},
+      {"--memory global,ldg --scene " + k_room, 2, "'ldg' needs the GPU"},
+      {"--benchmark --memory float4_ldg " + k_room, 2, "needs the GPU"},
+      {"--memory textures", 2, "unknown memory path 'textures'"},
+      {"--memory global,,float4", 2, "unknown memory path ''"},
+      {"--reference-rays 0", 2, "reference-rays"},
+      {"--scene " + (folder / "missing.obj").string(), 2, "missing.obj"},
+      {"--benchmark --models " + (folder / "nothing").string(), 1, "benchmark set"},
+      {k_room, 2, "--benchmark"},
+      {"--image-only --output ''", 2, "--output"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.arguments);
+    const ProgramRun run = run_program(c.arguments);
+    INFO(run.output);
+    CHECK(run.exit_code == c.exit_code);
+    CHECK(line_count(run.output) == 1);
+    CHECK_THAT(run.output, rt::testing::contains(c.says));
+  }
+}
