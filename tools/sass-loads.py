@@ -21,7 +21,7 @@ PATHS = [("TextureRecords", "texture"), ("ReadOnlyRecords", "float4_ldg"),
 def kernel_label(mangled):
     if "camera_trace_kernel" in mangled:
         where = "kernel parameters" if "parameters" in mangled else "__constant__"
-        return f"camera rays in the kernel, float4_ldg, {where}"
+        return f"camera rays in the kernel (kept path), {where}"
     if "path_trace_kernel" not in mangled:
         return None
     path = next((name for key, name in PATHS if key in mangled), "?")

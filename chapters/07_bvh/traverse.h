@@ -155,10 +155,12 @@ RT_HD TraceHit trace_bvh(const Tree& bvh, RayF ray, C&& counters = C{}) {
       enter1 = false;
     }
     if (enter0 && enter1) { // both interior: nearer first, the other later
-      const int nearer = t1 < t0 ? 1 : 0;
-      stack[stack_size++] = n.first[1 - nearer];
+      // Chosen by selects, not by indexing first[] with a run-time number: a node copied into
+      // registers (chapter 08) indexed at run time would have to be stored to local memory.
+      const bool second_nearer = t1 < t0;
+      stack[stack_size++] = second_nearer ? n.first[0] : n.first[1];
       counters.stack(stack_size);
-      node = n.first[nearer];
+      node = second_nearer ? n.first[1] : n.first[0];
     } else if (enter0) {
       node = n.first[0];
     } else if (enter1) {

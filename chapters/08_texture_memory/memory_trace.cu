@@ -50,7 +50,7 @@ void with_path_kernel(MemoryPath path, const DeviceTrees* trees, Fn fn) {
     return;
   case MemoryPath::float4_ldg:
     fn(path_trace_kernel<kQuery, PackedTree<ReadOnlyRecords>>,
-       trees ? trees->kept() : PackedTree<ReadOnlyRecords>{});
+       trees ? trees->float4_ldg_tree() : PackedTree<ReadOnlyRecords>{});
     return;
   case MemoryPath::texture:
     fn(path_trace_kernel<kQuery, PackedTree<TextureRecords>>,
@@ -120,7 +120,11 @@ PackedTree<GlobalRecords> DeviceTrees::float4_tree() const {
   return {{nodes_.data(), triangles_.data()}, node_count_};
 }
 
-KeptTree DeviceTrees::kept() const { return {{nodes_.data(), triangles_.data()}, node_count_}; }
+PackedTree<ReadOnlyRecords> DeviceTrees::float4_ldg_tree() const {
+  return {{nodes_.data(), triangles_.data()}, node_count_};
+}
+
+KeptTree DeviceTrees::kept() const { return float4_tree(); }
 
 std::size_t DeviceTrees::bytes(MemoryPath path) const {
   return path == MemoryPath::global || path == MemoryPath::ldg

@@ -22,8 +22,8 @@ using ch07::Query;
 
 // [listing:kept_path]
 // The path later chapters build on: the fastest in this chapter's measurements (book/08).
-inline constexpr MemoryPath k_kept_path = MemoryPath::float4_ldg;
-using KeptTree = PackedTree<ReadOnlyRecords>;
+inline constexpr MemoryPath k_kept_path = MemoryPath::float4;
+using KeptTree = PackedTree<GlobalRecords>;
 // [/listing:kept_path]
 
 // One tree on the GPU in every layout: chapter 07's arrays, the 16-byte records and, when
@@ -35,7 +35,8 @@ public:
   BvhView global_tree() const { return structs_.view(); }
   ReadOnlyBvh ldg_tree() const { return read_only(structs_.view()); }
   PackedTree<GlobalRecords> float4_tree() const;
-  KeptTree kept() const;
+  PackedTree<ReadOnlyRecords> float4_ldg_tree() const;
+  KeptTree kept() const; // the tree of k_kept_path
   std::size_t bytes(MemoryPath path) const;
   bool has_textures() const { return textures_; }
 

@@ -6,11 +6,11 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window models bench sass profile
+#   tests memcheck reports window models bench bench08 sass profile
 # `models` renders the real models of RT_MODELS (default: ../shared/models beside the checkout,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
-# the window; `bench` runs chapter 07's benchmark protocol on them, and chapter 08's memory
-# paths. `sass` counts the load instructions of chapter 08's kernels in the machine code
+# the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
+# memory paths. `sass` counts the load instructions of chapter 08's kernels in the machine code
 # (cuobjdump); `profile` reads their cache hit rates with Nsight Compute (ncu), where it runs.
 #
 # Offline machines: run tools/gpu/fetch-debs.sh where there is internet, copy .gpu-debs/ (and
@@ -23,7 +23,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window models bench sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -162,7 +162,7 @@ if wanted bench && [ -d "$models" ] && [ -x build/native/bin/ch07_bvh ]; then
     --json "$logdir/bench.json"
   cat "$logdir/bench.log"
 fi
-if wanted bench && [ -d "$models" ] && [ -x build/native/bin/ch08_texture_memory ]; then
+if wanted bench08 && [ -d "$models" ] && [ -x build/native/bin/ch08_texture_memory ]; then
   step bench_ch08 build/native/bin/ch08_texture_memory --backend gpu --benchmark \
     --models "$models" --json "$logdir/bench_ch08.json"
   cat "$logdir/bench_ch08.log"
