@@ -88,7 +88,6 @@ std::string identity_text(long long differing, std::size_t count) {
 
 } // namespace
 
-// [listing:measure_scene]
 SceneFigures measure_scene(const std::string& scene_path, const MeasureOptions& o,
                            Report& report) {
   const ch05::ObjMesh obj = ch05::load_obj(scene_path);
@@ -190,7 +189,6 @@ SceneFigures measure_scene(const std::string& scene_path, const MeasureOptions& 
   }
   return out;
 }
-// [/listing:measure_scene]
 
 std::string path_tables(const std::vector<SceneFigures>& scenes, const MeasureOptions& o,
                         const std::string& device) {
