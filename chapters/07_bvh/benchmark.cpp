@@ -110,14 +110,6 @@ ReportRow ray_row(const std::string& scene, RayType type, const BenchmarkOptions
            {"ties", double(batch.check.ties)}}};
 }
 
-std::string stem_of(const std::string& path) {
-  std::string name = std::filesystem::path(path).filename().string();
-  for (const char* suffix : {".gz", ".obj"})
-    if (name.size() > std::string(suffix).size() && name.ends_with(suffix))
-      name.resize(name.size() - std::string(suffix).size());
-  return name;
-}
-
 // The end-to-end frame: camera rays, the tree, chapter 06's Lambertian shading with smooth
 // normals and a shadow ray per light, and 8-bit pixels written, at the benchmark's size.
 Timing time_shaded_frame(const BenchmarkOptions& o, const ch05::ObjMesh& obj, const Bvh& bvh,
@@ -178,6 +170,14 @@ ReportRow build_row(const std::string& variant, const Bvh& bvh) {
            {"bytes_per_triangle", s.bytes_per_triangle}}};
 }
 
+std::string scene_name(const std::string& path) {
+  std::string name = std::filesystem::path(path).filename().string();
+  for (const std::string suffix : {".gz", ".obj"})
+    if (name.size() > suffix.size() && name.ends_with(suffix))
+      name.resize(name.size() - suffix.size());
+  return name;
+}
+
 std::vector<std::string> benchmark_set(const std::string& folder) {
   std::vector<std::string> found;
   for (const char* name : {"stanford-bunny", "armadillo-100k", "stanford-dragon", "conference",
@@ -195,7 +195,7 @@ std::vector<BenchmarkResult> run_benchmark(const std::vector<std::string>& scene
                                            const BenchmarkOptions& o, Report& report) {
   std::vector<BenchmarkResult> results;
   for (const std::string& path : scenes) {
-    const std::string name = stem_of(path);
+    const std::string name = scene_name(path);
     const ch05::ObjMesh obj = ch05::load_obj(path);
     const ch04::Mesh& mesh = obj.geometry;
     const Bvh bvh = build_bvh(mesh, o.build);

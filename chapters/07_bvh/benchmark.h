@@ -37,6 +37,10 @@ struct BenchmarkResult {
 // The report row of a build: its time, Mtriangles/s, and the tree's statistics.
 ReportRow build_row(const std::string& variant, const Bvh& bvh);
 
+// A scene's name in tables: the file name without .obj and .gz ("models/conference.obj.gz"
+// is "conference").
+std::string scene_name(const std::string& path);
+
 // The scenes of the benchmark set found in `folder` (stanford-bunny, armadillo-100k,
 // stanford-dragon, conference, sponza-dabrovic, as .obj.gz); empty if none is there.
 std::vector<std::string> benchmark_set(const std::string& folder);

@@ -24,6 +24,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "benchmark.h"
 #include "bvh_build.h"
 #include "bvh_trace.h"
 #include "obj_loader.h"
@@ -50,14 +51,6 @@ struct CompareOptions {
   std::vector<std::string> scenes;  // OBJ files (plain or gzip'd)
   bool robust = false;              // Embree's robust mode (RTC_SCENE_FLAG_ROBUST)
 };
-
-std::string stem_of(const std::string& path) {
-  std::string name = std::filesystem::path(path).filename().string();
-  for (const std::string suffix : {".gz", ".obj"})
-    if (name.size() > suffix.size() && name.ends_with(suffix))
-      name.resize(name.size() - suffix.size());
-  return name;
-}
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -333,7 +326,7 @@ std::string agreement_text(RayType type, const Agreement& a) {
 
 void compare_scene(const std::string& path, const CompareOptions& o, RTCDevice device,
                    EmbreeErrors& errors, Report& report) {
-  const std::string name = stem_of(path);
+  const std::string name = scene_name(path);
   const ch05::ObjMesh obj = ch05::load_obj(path);
   const ch04::Mesh& mesh = obj.geometry;
 

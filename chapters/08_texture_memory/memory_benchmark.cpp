@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 
+#include "benchmark.h"
 #include "bvh_build.h"
 #include "memory_trace.h"
 #include "model_render.h"
@@ -19,14 +20,6 @@ namespace rt::ch08 {
 namespace {
 
 using ch07::RayType;
-
-std::string stem_of(const std::string& path) {
-  std::string name = std::filesystem::path(path).filename().string();
-  for (const std::string suffix : {".gz", ".obj"})
-    if (name.size() > suffix.size() && name.ends_with(suffix))
-      name.resize(name.size() - suffix.size());
-  return name;
-}
 
 // Hits that are not bit for bit the same: t's bits or the triangle.
 long long count_differing(std::span<const MeshHit> a, std::span<const MeshHit> b) {
@@ -97,7 +90,8 @@ SceneFigures measure_scene(const std::string& scene_path, const MeasureOptions& 
   const ch07::PinholeCamera camera = ch07::make_protocol_camera(
       ch07::protocol_view(scene_path, bvh.bounds), o.extent.width, o.extent.height);
   const float radius = ch07::scene_radius(bvh.bounds);
-  SceneFigures out{stem_of(scene_path), static_cast<long long>(mesh.triangles.size()), {}};
+  SceneFigures out{
+      ch07::scene_name(scene_path), static_cast<long long>(mesh.triangles.size()), {}};
   std::map<RayType, ch07::Reference> references; // float64, per ray type, made once
 
   for (const Backend backend : o.backends) {

@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include "rt_catch.h"
 
 #include "run_program.h"
@@ -25,6 +23,7 @@ using namespace rt::ch07;
 
 namespace {
 
+using rt::testing::line_count;
 using rt::testing::ProgramRun;
 
 ProgramRun run_program(const std::string& arguments) {
@@ -32,25 +31,12 @@ ProgramRun run_program(const std::string& arguments) {
                                   arguments);
 }
 
-int line_count(const std::string& text) {
-  int lines = 0;
-  for (const char c : text) lines += c == '\n';
-  return lines;
-}
-
-std::filesystem::path temp_folder() {
-  const std::filesystem::path folder =
-      std::filesystem::temp_directory_path() / ("rt_ch07_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  return folder;
-}
-
 const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
 
 } // namespace
 
 TEST_CASE("program: a ray file in, the hits of brute force out", "[ch07]") {
-  const std::filesystem::path folder = temp_folder();
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch07");
   const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
   // Rays from inside the room in every direction, and a few that miss or stop short.
   std::vector<RayF> rays;
@@ -80,7 +66,7 @@ TEST_CASE("program: a ray file in, the hits of brute force out", "[ch07]") {
 }
 
 TEST_CASE("program: the protocol's hit dumps", "[ch07]") {
-  const std::filesystem::path folder = temp_folder();
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch07");
   const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
   const std::string primary = (folder / "primary.bin").string();
   const std::string diffuse = (folder / "diffuse.bin").string();
@@ -112,7 +98,7 @@ TEST_CASE("program: the protocol's hit dumps", "[ch07]") {
 }
 
 TEST_CASE("program: the benchmark mode on a small scene", "[ch07]") {
-  const std::filesystem::path folder = temp_folder();
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch07");
   const std::string json = (folder / "bench.json").string();
   const ProgramRun run = run_program("--benchmark " + k_room +
                                      " --width 96 --height 54 --frames 1 --json " + json);
@@ -127,7 +113,7 @@ TEST_CASE("program: the benchmark mode on a small scene", "[ch07]") {
 }
 
 TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch07]") {
-  const std::filesystem::path folder = temp_folder();
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch07");
   const std::string truncated = (folder / "truncated.bin").string();
   std::ofstream(truncated, std::ios::binary) << std::string(40, '\0');
   const std::string nan_rays = (folder / "nan.bin").string();

@@ -6,8 +6,6 @@
 #include <fstream>
 #include <string>
 
-#include <unistd.h>
-
 #include <nlohmann/json.hpp>
 
 #include "rt_catch.h"
@@ -16,6 +14,7 @@
 
 namespace {
 
+using rt::testing::line_count;
 using rt::testing::ProgramRun;
 
 ProgramRun run_program(const std::string& arguments) {
@@ -23,25 +22,12 @@ ProgramRun run_program(const std::string& arguments) {
                                   arguments);
 }
 
-int line_count(const std::string& text) {
-  int lines = 0;
-  for (const char c : text) lines += c == '\n';
-  return lines;
-}
-
-std::filesystem::path temp_folder() {
-  const std::filesystem::path folder =
-      std::filesystem::temp_directory_path() / ("rt_ch08_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  return folder;
-}
-
 const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
 
 } // namespace
 
 TEST_CASE("program: the report traces the CPU's paths, each with chapter 07's hits", "[ch08]") {
-  const std::filesystem::path folder = temp_folder();
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch08");
   const std::string json = (folder / "report.json").string();
   const std::string image = (folder / "room.png").string();
   const ProgramRun run = run_program("--scene " + k_room +
@@ -92,7 +78,7 @@ TEST_CASE("program: the benchmark mode on a small scene", "[ch08]") {
 }
 
 TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch08]") {
-  const std::filesystem::path folder = temp_folder();
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch08");
   struct Case {
     std::string arguments;
     int exit_code;
