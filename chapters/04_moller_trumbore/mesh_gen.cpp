@@ -120,4 +120,11 @@ int count_unpaired_edges(const Mesh& mesh) {
   return unpaired;
 }
 
+void append_mesh(Mesh& to, const Mesh& from) {
+  const int base = static_cast<int>(to.vertices.size());
+  to.vertices.insert(to.vertices.end(), from.vertices.begin(), from.vertices.end());
+  for (const IndexedTriangle& t : from.triangles)
+    to.triangles.push_back({t.v0 + base, t.v1 + base, t.v2 + base});
+}
+
 } // namespace rt::ch04

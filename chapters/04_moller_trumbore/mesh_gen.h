@@ -31,6 +31,10 @@ Mesh make_icosphere(int subdivisions, Vec3d centre, double radius);
 // An axis-aligned box whose faces are grids of `cells` x `cells` squares, two triangles each.
 Mesh make_box(Vec3d min_corner, Vec3d max_corner, int cells);
 
+// Several meshes in one: `from`'s vertices appended to `to`'s, and its triangles with their
+// indices moved past `to`'s old vertices.
+void append_mesh(Mesh& to, const Mesh& from);
+
 // Directed edges that have no partner running the other way: 0 for a closed, consistently
 // oriented mesh in which every edge is shared by exactly two triangles.
 int count_unpaired_edges(const Mesh& mesh);

@@ -300,9 +300,7 @@ int run(ChapterOptions& options) {
       return 0;
     }
     report.add_context("mode", ch03::k_headless_mode);
-    std::vector<Backend> backends;
-    if (backend == Backend::gpu) backends.push_back(Backend::gpu);
-    if (backend == Backend::cpu || !options.skip_cpu) backends.push_back(Backend::cpu);
+    const std::vector<Backend> backends = report_backends(backend, options.skip_cpu);
     report_variants(options, backends, scene, camera, report);
     report_acne(options, backends, report);
     if (!options.common.output.empty()) render_image(options, backend, scene, camera);

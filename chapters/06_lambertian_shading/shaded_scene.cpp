@@ -246,4 +246,13 @@ SceneView host_view(const ShadedScene& scene, unsigned features) {
   return view;
 }
 
+ShadedScene load_framed_obj(const std::string& path, CameraSpec& camera, bool eye_given,
+                            bool target_given) {
+  ShadedScene scene = scene_from_obj(ch05::load_obj(path), LightSettings{});
+  const CameraSpec framed = frame_bounds(bounds_of(scene.mesh), camera.fov_degrees);
+  if (!eye_given) camera.eye = framed.eye;
+  if (!target_given) camera.target = framed.target;
+  return scene;
+}
+
 } // namespace rt::ch06

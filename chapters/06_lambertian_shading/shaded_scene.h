@@ -84,4 +84,9 @@ std::size_t scene_bytes(const ShadedScene& scene, unsigned features);
 // The scene in host memory for the CPU backend; arrays the features do not read are null.
 SceneView host_view(const ShadedScene& scene, unsigned features);
 
+// An OBJ file as a shaded scene with the default lights, and `camera` framed on it (at its
+// own field of view) wherever the reader gave no eye or no target.
+ShadedScene load_framed_obj(const std::string& path, CameraSpec& camera, bool eye_given,
+                            bool target_given);
+
 } // namespace rt::ch06

@@ -420,15 +420,6 @@ int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
   return 0;
 }
 
-ShadedScene load_scene(const ChapterOptions& options, ch03::CameraSpec& camera) {
-  ShadedScene scene = ch06::scene_from_obj(ch05::load_obj(options.scene_path), {});
-  const ch03::CameraSpec framed =
-      ch06::frame_bounds(ch06::bounds_of(scene.mesh), options.camera.fov_degrees);
-  if (!options.eye_given) camera.eye = framed.eye;
-  if (!options.target_given) camera.target = framed.target;
-  return scene;
-}
-
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
   check_build_options(options.build);
@@ -441,7 +432,8 @@ int run(ChapterOptions& options) {
   }
 
   ch03::CameraSpec camera = options.camera;
-  const ShadedScene scene = load_scene(options, camera);
+  const ShadedScene scene = ch06::load_framed_obj(options.scene_path, camera, options.eye_given,
+                                                  options.target_given);
   ch03::validate_camera(camera);
 
   Report report("Chapter 07: bounding volume hierarchy", "Mrays/s",
@@ -476,9 +468,7 @@ int run(ChapterOptions& options) {
       return 0;
     }
     report.add_context("mode", ch03::k_headless_mode);
-    std::vector<Backend> backends;
-    if (backend == Backend::gpu) backends.push_back(Backend::gpu);
-    if (backend == Backend::cpu || !options.skip_cpu) backends.push_back(Backend::cpu);
+    const std::vector<Backend> backends = report_backends(backend, options.skip_cpu);
     report_variants(options, backends, scene, camera, report);
     if (!options.common.output.empty())
       render_image(options, backend, scene, build_bvh(scene.mesh, options.build), camera);

@@ -49,14 +49,10 @@ struct ChapterOptions {
   std::string models_dir = RT_SHARED_MODELS_DIR;
 };
 
-// The backends a run measures on: the resolved one, and the CPU too unless asked not to. On
-// the CPU, only the paths that exist there.
-std::vector<Backend> measured_backends(const ChapterOptions& options, Backend backend) {
-  std::vector<Backend> backends{backend};
-  if (backend == Backend::gpu && !options.skip_cpu) backends.push_back(Backend::cpu);
-  if (backend == Backend::cpu && options.paths_given)
+// Paths named with --memory must exist where the run is (`all` takes what exists there).
+void check_paths(const ChapterOptions& options, Backend backend) {
+  if (options.paths_given)
     for (const MemoryPath path : options.paths) check_runs_on(path, backend);
-  return backends;
 }
 
 void add_context(Report& report, Backend backend, const MeasureOptions& m) {
@@ -90,9 +86,7 @@ int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
   MeasureOptions m;
   m.extent = options.size_given ? options.common.extent() : Extent{1920, 1080};
   m.backends = {backend};
-  if (backend == Backend::cpu)
-    for (const MemoryPath path : options.paths)
-      if (options.paths_given) check_runs_on(path, backend);
+  check_paths(options, backend);
   m.paths = options.paths;
   m.frames = options.common.frames;
   Report report("Chapter 08: memory paths on the benchmark protocol", "Mrays/s",
@@ -109,15 +103,6 @@ int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
   if (!options.common.json.empty()) report.write_json(options.common.json);
   if (differing > 0) throw Error("a memory path changed the hits: they must be chapter 07's");
   return 0;
-}
-
-ShadedScene load_scene(const ChapterOptions& options, ch03::CameraSpec& camera) {
-  ShadedScene scene = ch06::scene_from_obj(ch05::load_obj(options.scene_path), {});
-  const ch03::CameraSpec framed =
-      ch06::frame_bounds(ch06::bounds_of(scene.mesh), options.camera.fov_degrees);
-  if (!options.eye_given) camera.eye = framed.eye;
-  if (!options.target_given) camera.target = framed.target;
-  return scene;
 }
 
 // The image: chapter 06's shading, smooth normals and shadows, through the kept path.
@@ -187,7 +172,8 @@ int run(ChapterOptions& options) {
   if (options.benchmark) return run_benchmark_mode(options, backend);
 
   ch03::CameraSpec camera = options.camera;
-  const ShadedScene scene = load_scene(options, camera);
+  const ShadedScene scene = ch06::load_framed_obj(options.scene_path, camera, options.eye_given,
+                                                  options.target_given);
   ch03::validate_camera(camera);
 
   const std::unique_ptr<ch02::Viewer> viewer =
@@ -206,7 +192,8 @@ int run(ChapterOptions& options) {
     }
     MeasureOptions m;
     m.extent = options.common.extent();
-    m.backends = measured_backends(options, backend);
+    check_paths(options, backend);
+    m.backends = report_backends(backend, options.skip_cpu);
     m.paths = options.paths;
     m.frames = options.common.frames;
     m.reference_rays = options.reference_rays;

@@ -120,11 +120,13 @@ SceneFigures measure_scene(const std::string& scene_path, const MeasureOptions& 
         if (trees) secondary.device.emplace(std::span<const RayF>(secondary.rays));
       }
       const Batch& batch = type == RayType::primary ? primary : secondary;
-      const std::vector<MeshHit> chapter07 =
-          type == RayType::primary
-              ? primary_hits.hits
-              : trace(MemoryPath::global, batch, backend, bvh, packed, d_trees, o.frames, false)
-                    .hits;
+      std::vector<MeshHit> secondary_hits; // chapter 07's, for secondary rays
+      if (type != RayType::primary)
+        secondary_hits =
+            trace(MemoryPath::global, batch, backend, bvh, packed, d_trees, o.frames, false)
+                .hits;
+      const std::vector<MeshHit>& chapter07 =
+          type == RayType::primary ? primary_hits.hits : secondary_hits;
       if (o.reference_rays > 0 && type != RayType::ao && !references.contains(type))
         references[type] = ch07::trace_reference(mesh, batch.rays, o.reference_rays);
 

@@ -27,10 +27,10 @@ __global__ void path_trace_kernel(Tree tree, const RayF* rays, int count, MeshHi
 }
 // [/listing:path_kernel]
 
-PackedTree<TextureRecords> texture_tree(const DeviceTrees& trees, int node_count) {
+PackedTree<TextureRecords> texture_tree(const DeviceTrees& trees) {
   if (!trees.has_textures())
     throw Error("the texture path needs the trees made with their texture objects");
-  return {{trees.node_texture(), trees.triangle_texture()}, node_count};
+  return {{trees.node_texture(), trees.triangle_texture()}, trees.global_tree().node_count};
 }
 
 // Calls fn(kernel, tree) with a path's kernel and the tree it reads; without trees (nullptr),
@@ -54,8 +54,7 @@ void with_path_kernel(MemoryPath path, const DeviceTrees* trees, Fn fn) {
     return;
   case MemoryPath::texture:
     fn(path_trace_kernel<kQuery, PackedTree<TextureRecords>>,
-       trees ? texture_tree(*trees, trees->global_tree().node_count)
-             : PackedTree<TextureRecords>{});
+       trees ? texture_tree(*trees) : PackedTree<TextureRecords>{});
     return;
   }
   throw Error("unknown memory path");

@@ -93,6 +93,12 @@ Backend resolve_backend(Backend requested, std::ostream& notice) {
   return Backend::cpu;
 }
 
+std::vector<Backend> report_backends(Backend resolved, bool skip_cpu) {
+  std::vector<Backend> backends{resolved};
+  if (resolved == Backend::gpu && !skip_cpu) backends.push_back(Backend::cpu);
+  return backends;
+}
+
 int cpu_thread_count() {
   static const int count = [] {
     if (const char* env = std::getenv("RT_CPU_THREADS")) {

@@ -37,14 +37,6 @@ void add_triangle(ch04::Mesh& mesh, Vec3f a, Vec3f b, Vec3f c) {
   mesh.triangles.push_back({first, first + 1, first + 2});
 }
 
-void append(ch04::Mesh& into, const ch04::Mesh& from) {
-  const int offset = static_cast<int>(into.vertices.size());
-  into.vertices.insert(into.vertices.end(), from.vertices.begin(), from.vertices.end());
-  for (const ch04::IndexedTriangle& t : from.triangles) {
-    into.triangles.push_back({t.v0 + offset, t.v1 + offset, t.v2 + offset});
-  }
-}
-
 // Triangles scattered in the cube [-1, 1]^3 with sizes from 1e-5 to 0.2 (log-uniform), so
 // that small and large boxes mix and overlap, as in a real scene.
 ch04::Mesh random_soup(int count, unsigned seed) {
@@ -676,11 +668,11 @@ TEST_CASE("the SAH tree is cheaper than the median tree on a scene", "[ch07]") {
   // A finely tessellated sphere and a box on a large ground quad: the median cuts through
   // the ground's huge triangles and the sphere alike; the SAH isolates the ground.
   ch04::Mesh scene = ch04::make_icosphere(4, {0.0, 1.0, 0.0}, 1.0);
-  append(scene, ch04::make_box({2.0, 0.0, 2.0}, {3.0, 1.0, 3.0}, 4));
+  ch04::append_mesh(scene, ch04::make_box({2.0, 0.0, 2.0}, {3.0, 1.0, 3.0}, 4));
   ch04::Mesh ground;
   ground.vertices = {{-50, 0, -50}, {50, 0, -50}, {50, 0, 50}, {-50, 0, 50}};
   ground.triangles = {{0, 2, 1}, {0, 3, 2}};
-  append(scene, ground);
+  ch04::append_mesh(scene, ground);
   for (const int leaf : {1, 4, 8}) {
     INFO("leaf size " << leaf);
     const Bvh median = build_bvh(scene, options_of(SplitMethod::median, leaf));

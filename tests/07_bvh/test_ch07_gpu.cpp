@@ -25,11 +25,7 @@ namespace {
 
 ch04::Mesh scene_for_tests() {
   ch04::Mesh mesh = ch04::make_icosphere(4, {0.5, 0.0, -0.5}, 1.5);
-  const ch04::Mesh box = ch04::make_box({-3.0, -2.0, -3.0}, {3.0, -1.5, 3.0}, 8);
-  const int base = static_cast<int>(mesh.vertices.size());
-  mesh.vertices.insert(mesh.vertices.end(), box.vertices.begin(), box.vertices.end());
-  for (const auto& t : box.triangles)
-    mesh.triangles.push_back({t.v0 + base, t.v1 + base, t.v2 + base});
+  ch04::append_mesh(mesh, ch04::make_box({-3.0, -2.0, -3.0}, {3.0, -1.5, 3.0}, 8));
   return mesh;
 }
 

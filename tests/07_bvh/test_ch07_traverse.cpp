@@ -45,14 +45,6 @@ Mesh random_soup(int count, unsigned seed, Vec3f centre = {}, float extent = 10.
   return mesh;
 }
 
-// Several meshes in one: their triangles and vertices appended.
-void append(Mesh& to, const Mesh& from) {
-  const int base = static_cast<int>(to.vertices.size());
-  to.vertices.insert(to.vertices.end(), from.vertices.begin(), from.vertices.end());
-  for (const auto& t : from.triangles)
-    to.triangles.push_back({t.v0 + base, t.v1 + base, t.v2 + base});
-}
-
 // Rays from around the scene through it, plus some from inside; a few with a finite tmax.
 std::vector<RayF> random_rays(int count, unsigned seed, Vec3f centre, float extent) {
   std::mt19937 rng(seed);
@@ -124,8 +116,8 @@ BuildOptions options_of(SplitMethod method, int leaf) {
 
 TEST_CASE("the tree gives brute force's hits on random scenes and rays", "[ch07]") {
   Mesh scene = random_soup(3000, 7);
-  append(scene, ch04::make_icosphere(3, {2.0, 0.5, -1.0}, 2.0));
-  append(scene, ch04::make_box({-4.0, -4.0, -4.0}, {-2.0, -1.0, 3.0}, 4));
+  ch04::append_mesh(scene, ch04::make_icosphere(3, {2.0, 0.5, -1.0}, 2.0));
+  ch04::append_mesh(scene, ch04::make_box({-4.0, -4.0, -4.0}, {-2.0, -1.0, 3.0}, 4));
   const std::vector<RayF> rays = random_rays(4000, 11, {}, 10.0f);
   for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
     for (const int leaf : {1, 4, 8}) {
@@ -157,7 +149,7 @@ TEST_CASE("far from the origin the tree still agrees with brute force", "[ch07]"
   for (const float offset : {1e4f, 1e6f}) {
     const Vec3f centre{offset, -offset, 0.5f * offset};
     Mesh scene = random_soup(2000, 21, centre, 10.0f);
-    append(scene, ch04::make_icosphere(3, centre.as<double>(), 3.0));
+    ch04::append_mesh(scene, ch04::make_icosphere(3, centre.as<double>(), 3.0));
     const Bvh bvh = build_bvh(scene, {});
     const std::vector<RayF> rays = random_rays(3000, 23, centre, 10.0f);
     CAPTURE(offset);
@@ -227,7 +219,7 @@ TEST_CASE("slab test: flat boxes and denormal directions", "[ch07]") {
 TEST_CASE("rays along the faces of axis-aligned boxes agree with brute force", "[ch07]") {
   // Boxes made of grid squares: every node box is flat or has faces on the rays' planes.
   Mesh scene = ch04::make_box({0.0, 0.0, 0.0}, {4.0, 4.0, 4.0}, 4);
-  append(scene, ch04::make_box({5.0, 0.0, 0.0}, {6.0, 4.0, 1.0}, 2));
+  ch04::append_mesh(scene, ch04::make_box({5.0, 0.0, 0.0}, {6.0, 4.0, 1.0}, 2));
   const Bvh bvh = build_bvh(scene, options_of(SplitMethod::sah, 2));
   std::vector<RayF> rays;
   for (int a = 0; a <= 8; ++a)

@@ -62,18 +62,11 @@ Mesh random_soup(int count, unsigned seed, float extent = 10.0f) {
   return mesh;
 }
 
-void append(Mesh& to, const Mesh& from) {
-  const int base = static_cast<int>(to.vertices.size());
-  to.vertices.insert(to.vertices.end(), from.vertices.begin(), from.vertices.end());
-  for (const auto& t : from.triangles)
-    to.triangles.push_back({t.v0 + base, t.v1 + base, t.v2 + base});
-}
-
 // The soup with a closed sphere and a grid box in it: flat node boxes, faces on slab planes.
 Mesh mixed_scene(int soup, unsigned seed) {
   Mesh scene = random_soup(soup, seed);
-  append(scene, ch04::make_icosphere(3, {2.0, 0.5, -1.0}, 2.0));
-  append(scene, ch04::make_box({-4.0, -4.0, -4.0}, {-2.0, -1.0, 3.0}, 4));
+  ch04::append_mesh(scene, ch04::make_icosphere(3, {2.0, 0.5, -1.0}, 2.0));
+  ch04::append_mesh(scene, ch04::make_box({-4.0, -4.0, -4.0}, {-2.0, -1.0, 3.0}, 4));
   return scene;
 }
 

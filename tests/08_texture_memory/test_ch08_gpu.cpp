@@ -43,17 +43,10 @@ namespace {
 
 constexpr ch04::TriangleVariant k_watertight = ch04::TriangleVariant::watertight;
 
-void append(Mesh& to, const Mesh& from) {
-  const int base = static_cast<int>(to.vertices.size());
-  to.vertices.insert(to.vertices.end(), from.vertices.begin(), from.vertices.end());
-  for (const auto& t : from.triangles)
-    to.triangles.push_back({t.v0 + base, t.v1 + base, t.v2 + base});
-}
-
 // A closed sphere over a flat grid box (faces on slab planes), and a soup of small triangles.
 Mesh scene_for_tests(unsigned seed) {
   Mesh mesh = ch04::make_icosphere(4, {0.5, 0.0, -0.5}, 1.5);
-  append(mesh, ch04::make_box({-3.0, -2.0, -3.0}, {3.0, -1.5, 3.0}, 8));
+  ch04::append_mesh(mesh, ch04::make_box({-3.0, -2.0, -3.0}, {3.0, -1.5, 3.0}, 8));
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> where(-3.5f, 3.5f), unit(-1.0f, 1.0f);
   std::uniform_real_distribution<float> size(0.01f, 0.4f);

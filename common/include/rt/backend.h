@@ -5,6 +5,7 @@
 #include <iosfwd>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace rt {
 
@@ -28,6 +29,10 @@ const GpuInfo& gpu_info();
 // Turns a requested backend into gpu or cpu. `automatic` falls back to the CPU and writes one
 // notice line to `notice`; `gpu` without a usable device throws NoGpuError.
 Backend resolve_backend(Backend requested, std::ostream& notice);
+
+// The backends a chapter's report measures on: the resolved one, and after the GPU also the
+// CPU unless `skip_cpu` (--skip-cpu).
+std::vector<Backend> report_backends(Backend resolved, bool skip_cpu);
 
 // Threads the CPU backend uses: the hardware's count, or RT_CPU_THREADS when set.
 int cpu_thread_count();
