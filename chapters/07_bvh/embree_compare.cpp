@@ -24,7 +24,6 @@
 
 #include <embree3/rtcore.h>
 
-#include "benchmark.h"
 #include "bvh_build.h"
 #include "bvh_trace.h"
 #include "obj_loader.h"
@@ -34,6 +33,7 @@
 #include "rt/error.h"
 #include "rt/report.h"
 #include "rt/timer.h"
+#include "runner.h"
 #include "traverse.h"
 
 namespace {

@@ -17,20 +17,20 @@
 #include <string>
 #include <vector>
 
-#include "benchmark.h"
 #include "bvh_build.h"
 #include "bvh_render.h"
 #include "bvh_trace.h"
 #include "camera_cli.h"
+#include "chapter_report.h"
 #include "model_render.h"
 #include "obj_loader.h"
 #include "protocol.h"
 #include "ray_io.h"
-#include "reference.h"
 #include "rt/backend_image.h"
 #include "rt/cli.h"
 #include "rt/report.h"
 #include "rt/timer.h"
+#include "runner.h"
 #include "shaded_render.h"
 #include "variant_cli.h"
 #include "viewer.h"
@@ -65,217 +65,6 @@ struct ChapterOptions {
   std::string models_dir = RT_SHARED_MODELS_DIR;
   bool end_to_end = true;
 };
-
-struct FrameRays {
-  std::vector<RayF> rays;
-  std::optional<DeviceBuffer<RayF>> device;
-};
-
-// One variant of the closest-hit search over the frame's rays.
-struct Traced {
-  std::vector<MeshHit> hits;
-  Timing timing;
-};
-
-Traced trace_frame(Backend backend, const std::function<void(MeshHit*)>& gpu_launch,
-                   const std::function<void(std::vector<MeshHit>&)>& cpu_run, std::size_t count,
-                   TimingPlan plan) {
-  Traced out;
-  out.hits.resize(count);
-  if (backend == Backend::gpu) {
-    DeviceBuffer<MeshHit> d_hits(count);
-    out.timing = time_gpu([&] { gpu_launch(d_hits.data()); }, plan);
-    d_hits.download(out.hits);
-  } else {
-    out.timing = time_cpu([&] { cpu_run(out.hits); }, plan);
-  }
-  return out;
-}
-
-// The chapter's report: brute force against the tree, median split against SAH, each timed
-// and checked against the float64 reference; then the shaded frame through the tree.
-void report_variants(const ChapterOptions& options, const std::vector<Backend>& backends,
-                     const ShadedScene& scene, const ch03::CameraSpec& spec, Report& report) {
-  const Extent extent = options.common.extent();
-  const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
-  const ch04::Mesh& mesh = scene.mesh;
-  FrameRays frame;
-  frame.rays.reserve(extent.pixel_count());
-  for (int y = 0; y < extent.height; ++y)
-    for (int x = 0; x < extent.width; ++x) frame.rays.push_back(camera.ray_through_pixel(x, y));
-  const Reference ref = trace_reference(mesh, frame.rays, options.reference_pixels);
-  const std::size_t count = frame.rays.size();
-  const TriangleVariant variant = options.variant;
-
-  std::vector<Bvh> trees;
-  std::vector<TraversalWork> work; // per tree: the same on both backends, counted once
-  for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
-    BuildOptions build = options.build;
-    build.method = method;
-    trees.push_back(build_bvh(mesh, build));
-    report.add_row(build_row(std::string("build, ") + to_string(method), trees.back()));
-    work.push_back(measure_work(Query::closest, variant, trees.back().view(), frame.rays));
-  }
-
-  std::optional<std::vector<MeshHit>> brute_hits; // the GPU's brute force, all pixels
-  for (const Backend backend : backends) {
-    std::optional<DeviceBuffer<RayF>> d_rays;
-    std::optional<DeviceBuffer<Vec3f>> d_vertices;
-    std::optional<DeviceBuffer<ch04::IndexedTriangle>> d_triangles;
-    if (backend == Backend::gpu) {
-      ch05::check_device_memory(count * (sizeof(RayF) + 2 * sizeof(MeshHit)) +
-                                    trees.back().nodes.size() * sizeof(BvhNode) * 2 +
-                                    mesh.triangles.size() * 64,
-                                "the frame's rays and the trees");
-      d_rays.emplace(std::span<const RayF>(frame.rays));
-      d_vertices.emplace(std::span<const Vec3f>(mesh.vertices));
-      d_triangles.emplace(std::span<const ch04::IndexedTriangle>(mesh.triangles));
-      // Brute force: chapter 04's closest_hit for every ray. Slow: a few frames only.
-      const ch04::MeshView d_mesh{d_vertices->data(), d_triangles->data(),
-                                  int(mesh.triangles.size())};
-      const Traced brute =
-          trace_frame(backend,
-                      [&](MeshHit* hits) {
-                        brute_force_gpu(variant, d_mesh, d_rays->data(), int(count), hits);
-                      },
-                      {}, count, {1, options.common.frames > 0 ? options.common.frames : 3});
-      ReportRow row{"brute force (chapter 04)",
-                    "gpu",
-                    brute.timing.median_ms,
-                    double(count) / (brute.timing.median_ms * 1e3),
-                    "",
-                    {}};
-      row.error = error_against(ref, brute.hits, row) + "; " +
-                  group_digits(static_cast<long long>(mesh.triangles.size())) +
-                  " triangle tests per ray";
-      report.add_row(row);
-      brute_hits = brute.hits;
-    } else {
-      // On CPU cores brute force is too slow for a whole frame: it is timed on the reference's
-      // sampled rays, and the frame time extrapolated from them.
-      std::vector<RayF> sample;
-      for (const std::size_t i : ref.index) sample.push_back(frame.rays[i]);
-      std::vector<ch04::MeshHit> hits;
-      const Timing timing =
-          time_cpu([&] { hits = ch04::closest_hits_cpu(variant, mesh, sample); }, {0, 1});
-      const double ms_per_ray = timing.median_ms / double(sample.size());
-      std::vector<MeshHit> frame_hits(count);
-      for (std::size_t k = 0; k < ref.index.size(); ++k) frame_hits[ref.index[k]] = hits[k];
-      ReportRow row{"brute force (chapter 04)", "cpu", ms_per_ray * double(count),
-                    1e-3 / ms_per_ray,          "",    {}};
-      row.error = error_against(ref, frame_hits, row) + "; timed on the " +
-                  group_digits(static_cast<long long>(sample.size())) +
-                  " sampled rays, frame time extrapolated";
-      report.add_row(row);
-    }
-    for (std::size_t k = 0; k < trees.size(); ++k) {
-      const Bvh& bvh = trees[k];
-      std::optional<DeviceBvh> d_bvh;
-      if (backend == Backend::gpu) d_bvh.emplace(bvh);
-      const Traced traced = trace_frame(
-          backend,
-          [&](MeshHit* hits) {
-            trace_rays_gpu(Query::closest, variant, d_bvh->view(), d_rays->data(), int(count),
-                           hits);
-          },
-          [&](std::vector<MeshHit>& hits) {
-            trace_rays_cpu(Query::closest, variant, bvh.view(), frame.rays, hits);
-          },
-          count, timing_plan(backend, options.common.frames));
-      ReportRow row{std::string("BVH, ") + to_string(bvh.options.method),
-                    to_string(backend),
-                    traced.timing.median_ms,
-                    double(count) / (traced.timing.median_ms * 1e3),
-                    "",
-                    {}};
-      row.error = error_against(ref, traced.hits, row);
-      if (brute_hits) {
-        const HitAgreement a = compare_hits(traced.hits, *brute_hits);
-        row.error += "; " + group_digits(a.mismatches) + " px differ from brute force (" +
-                     group_digits(a.ties) + " exact ties)";
-        row.metrics.emplace_back("brute_force_mismatches", double(a.mismatches));
-      }
-      row.error += "; " + format_fixed(work[k].nodes_per_ray, 1) + " nodes, " +
-                   format_fixed(work[k].triangles_per_ray, 1) + " triangles per ray";
-      row.metrics.emplace_back("nodes_per_ray", work[k].nodes_per_ray);
-      row.metrics.emplace_back("triangles_per_ray", work[k].triangles_per_ray);
-      if (backend == Backend::gpu) {
-        const int regs = trace_kernel_registers(Query::closest, variant);
-        row.error += ", " + std::to_string(regs) + " regs";
-        row.metrics.emplace_back("registers", regs);
-      }
-      report.add_row(row);
-    }
-  }
-
-  // The shaded frame: chapter 06's shading, through the tree (SAH) and, on the GPU, by brute
-  // force with chapter 06's own kernel.
-  const unsigned features = ch06::features_used(scene, options.smooth, options.shadows);
-  const Bvh& bvh = trees.back();
-  std::optional<Image> gpu_image;
-  for (const Backend backend : backends) {
-    const auto run = [&](bool tree) {
-      Image image(extent.width, extent.height);
-      Timing timing;
-      const TimingPlan plan =
-          tree ? timing_plan(backend, options.common.frames)
-               : TimingPlan{1, options.common.frames > 0 ? options.common.frames : 3};
-      if (backend == Backend::gpu) {
-        const ch06::DeviceShadedScene d_scene(scene, features);
-        const DeviceBvh d_bvh(bvh);
-        DeviceBuffer<Rgba8> d_pixels(image.pixels.size());
-        timing = time_gpu(
-            [&] {
-              if (tree)
-                render_bvh_shaded(backend, features, with_bvh(d_scene.view(), d_bvh.view()),
-                                  camera, extent, d_pixels.data());
-              else
-                ch06::render_shaded(backend, ch06::KernelKind::specialised, features,
-                                    d_scene.view(), camera, extent, d_pixels.data());
-            },
-            plan);
-        d_pixels.download(image.pixels);
-      } else {
-        const ch06::SceneView view = ch06::host_view(scene, features);
-        timing = time_cpu(
-            [&] {
-              render_bvh_shaded(backend, features, with_bvh(view, bvh.view()), camera, extent,
-                                image.pixels.data());
-            },
-            plan);
-      }
-      return std::pair{std::move(image), timing};
-    };
-    std::optional<Image> brute_image;
-    if (backend == Backend::gpu) {
-      auto [image, timing] = run(false);
-      report.add_row({"shaded frame, brute force (chapter 06)",
-                      "gpu",
-                      timing.median_ms,
-                      double(count) / (timing.median_ms * 1e3),
-                      format_fixed(1000.0 / timing.median_ms, 1) + " frames/s",
-                      {{"fps", 1000.0 / timing.median_ms}}});
-      brute_image = std::move(image);
-    }
-    auto [image, timing] = run(true);
-    std::string error = format_fixed(1000.0 / timing.median_ms, 1) + " frames/s";
-    const Image* against = brute_image ? &*brute_image : (gpu_image ? &*gpu_image : nullptr);
-    long long differing = -1;
-    if (against != nullptr) {
-      differing = static_cast<long long>(count_differing_pixels(image.pixels, against->pixels));
-      error += "; " + group_digits(differing) + " px differ from " +
-               (brute_image ? "brute force" : "the GPU's frame");
-    }
-    report.add_row(
-        {"shaded frame, BVH (SAH)",
-         to_string(backend),
-         timing.median_ms,
-         double(count) / (timing.median_ms * 1e3),
-         error,
-         {{"fps", 1000.0 / timing.median_ms}, {"pixels_differing", double(differing)}}});
-    if (backend == Backend::gpu) gpu_image = std::move(image);
-  }
-}
 
 void render_image(const ChapterOptions& options, Backend backend, const ShadedScene& scene,
                   const Bvh& bvh, const ch03::CameraSpec& spec) {
@@ -385,38 +174,30 @@ int run_dump_hits(const ChapterOptions& options, Backend backend, const ch04::Me
 }
 
 int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
-  std::vector<std::string> scenes = options.benchmark_scenes;
-  if (scenes.empty()) scenes = benchmark_set(options.models_dir);
-  if (scenes.empty())
-    throw InputError("--benchmark: no scenes given and none of the benchmark set in " +
-                     options.models_dir);
-  BenchmarkOptions bench;
-  bench.extent = options.size_given ? options.common.extent() : Extent{1920, 1080};
-  bench.backend = backend;
-  bench.variant = options.variant;
-  bench.build = options.build;
-  bench.frames = options.common.frames;
-  bench.end_to_end = options.end_to_end;
-  Report report("Chapter 07: benchmark protocol", "Mrays/s", "brute force on sampled rays");
-  const std::string device = describe_backend(backend);
-  report.add_context("device", device);
-  report.add_context("image", std::to_string(bench.extent.width) + "x" +
-                                  std::to_string(bench.extent.height));
-  report.add_context("tree", std::string(to_string(bench.build.method)) + ", leaves of up to " +
-                                 std::to_string(bench.build.max_leaf_size) + " triangles, " +
-                                 std::to_string(bench.build.bins) + " bins");
-  report.add_context("triangle test", ch04::to_string(bench.variant));
-  report.add_context("timing", backend == Backend::gpu
-                                   ? "kernel only: CUDA events, median of 50 after 5 warm-ups"
-                                   : "median of 5 after 1 warm-up, " +
-                                         std::to_string(cpu_thread_count()) + " threads");
-  const std::vector<BenchmarkResult> results = run_benchmark(scenes, bench, report);
+  const std::vector<std::string> scenes = options.benchmark_scenes.empty()
+                                              ? benchmark_set(options.models_dir)
+                                              : options.benchmark_scenes;
+  RunnerOptions runner;
+  runner.extent = options.size_given ? options.common.extent() : Extent{1920, 1080};
+  runner.backend = backend;
+  runner.variant = options.variant;
+  runner.build = options.build;
+  runner.frames = options.common.frames;
+  runner.check_rays = 4096;
+  runner.end_to_end = options.end_to_end;
+  runner.build_rows = true;
+  Report report("Chapter 07: benchmark protocol", "Mrays/s",
+                "chapter 07's hits; brute force on sampled rays");
+  add_runner_context(report, runner);
+  const std::vector<SceneResult> results =
+      run_benchmark(scenes, {chapter07_tracers}, runner, report);
   report.print(std::cout);
-  std::cout << "\n" << summary_table(results, device);
+  std::cout << "\n"
+            << summary_table(results, to_string(options.build.method),
+                             describe_backend(backend), course_anchors(std::cout));
   if (!options.common.json.empty()) report.write_json(options.common.json);
-  long long mismatches = 0;
-  for (const BenchmarkResult& r : results) mismatches += r.mismatches;
-  if (mismatches > 0) throw Error("the tree disagrees with brute force on sampled rays");
+  for (const SceneResult& r : results)
+    if (r.problems > 0) throw Error("the tree disagrees with brute force on sampled rays");
   return 0;
 }
 
@@ -468,8 +249,12 @@ int run(ChapterOptions& options) {
       return 0;
     }
     report.add_context("mode", ch03::k_headless_mode);
-    const std::vector<Backend> backends = report_backends(backend, options.skip_cpu);
-    report_variants(options, backends, scene, camera, report);
+    ChapterReportOptions chapter{
+        options.scene_path,       options.common.extent(), options.build,
+        options.variant,          options.smooth,          options.shadows,
+        options.reference_pixels, options.common.frames};
+    report_chapter(chapter, report_backends(backend, options.skip_cpu), scene,
+                   ch03::make_camera<float>(camera, options.common.extent()), report);
     if (!options.common.output.empty())
       render_image(options, backend, scene, build_bvh(scene.mesh, options.build), camera);
   }

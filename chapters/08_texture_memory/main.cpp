@@ -12,16 +12,16 @@
 #include <string>
 #include <vector>
 
-#include "benchmark.h"
 #include "bvh_build.h"
 #include "camera_cli.h"
 #include "kept_render.h"
-#include "memory_benchmark.h"
 #include "memory_trace.h"
+#include "memory_tracers.h"
 #include "obj_loader.h"
 #include "rt/backend_image.h"
 #include "rt/cli.h"
 #include "rt/report.h"
+#include "runner.h"
 #include "shaded_render.h"
 #include "shaded_scene.h"
 #include "viewer.h"
@@ -55,53 +55,52 @@ void check_paths(const ChapterOptions& options, Backend backend) {
     for (const MemoryPath path : options.paths) check_runs_on(path, backend);
 }
 
-void add_context(Report& report, Backend backend, const MeasureOptions& m) {
-  report.add_context("device", describe_backend(backend));
-  report.add_context("image", std::to_string(m.extent.width) + "x" +
-                                  std::to_string(m.extent.height) +
-                                  ", the benchmark protocol's view and rays (chapter 07)");
-  report.add_context("tree", std::string(to_string(m.build.method)) + ", leaves of up to " +
-                                 std::to_string(m.build.max_leaf_size) +
-                                 " triangles; triangle test watertight");
-  report.add_context("timing", backend == Backend::gpu
-                                   ? "GPU: kernel only, CUDA events, median of 50 after 5 "
-                                     "warm-ups; CPU: median of 5 after 1, " +
-                                         std::to_string(cpu_thread_count()) + " threads"
-                                   : "median of 5 after 1 warm-up, " +
-                                         std::to_string(cpu_thread_count()) + " threads");
-  std::string paths;
-  for (const MemoryPath p : m.paths)
-    paths += std::string(paths.empty() ? "" : "; ") + to_string(p) + ": " + describe(p);
-  report.add_context("memory paths", paths);
+ch07::RunnerOptions runner_options(const ChapterOptions& options, Backend backend,
+                                   Extent extent) {
+  check_paths(options, backend);
+  ch07::RunnerOptions runner;
+  runner.extent = extent;
+  runner.backend = backend;
+  runner.frames = options.common.frames;
+  return runner;
+}
+
+void add_context(Report& report, const ch07::RunnerOptions& runner,
+                 const std::vector<MemoryPath>& paths) {
+  ch07::add_runner_context(report, runner);
+  std::string described;
+  for (const MemoryPath p : paths)
+    described += std::string(described.empty() ? "" : "; ") + to_string(p) + ": " + describe(p);
+  report.add_context("memory paths", described);
   report.add_context("kept path", std::string(to_string(k_kept_path)) +
                                       " (what the image and later chapters use)");
 }
 
+// The report's rows, the tables of the first backend's figures, and the verdict.
+void finish(const ChapterOptions& options, const Report& report,
+            const std::vector<ch07::SceneResult>& results, const ch07::RunnerOptions& runner) {
+  report.print(std::cout);
+  std::cout << ch07::tracer_tables(results, to_string(MemoryPath::global), runner,
+                                   describe_backend(runner.backend),
+                                   ch07::course_anchors(std::cout));
+  if (!options.common.json.empty()) report.write_json(options.common.json);
+  for (const ch07::SceneResult& r : results)
+    if (r.problems > 0)
+      throw Error("a memory path changed the hits: they must be chapter 07's");
+}
+
 int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
-  std::vector<std::string> scenes = options.benchmark_scenes;
-  if (scenes.empty()) scenes = ch07::benchmark_set(options.models_dir);
-  if (scenes.empty())
-    throw InputError("--benchmark: no scenes given and none of the benchmark set in " +
-                     options.models_dir);
-  MeasureOptions m;
-  m.extent = options.size_given ? options.common.extent() : Extent{1920, 1080};
-  m.backends = {backend};
-  check_paths(options, backend);
-  m.paths = options.paths;
-  m.frames = options.common.frames;
+  const std::vector<std::string> scenes = options.benchmark_scenes.empty()
+                                              ? ch07::benchmark_set(options.models_dir)
+                                              : options.benchmark_scenes;
+  const ch07::RunnerOptions runner = runner_options(
+      options, backend, options.size_given ? options.common.extent() : Extent{1920, 1080});
   Report report("Chapter 08: memory paths on the benchmark protocol", "Mrays/s",
                 "chapter 07's hits, bit for bit");
-  add_context(report, backend, m);
-  std::vector<SceneFigures> results;
-  long long differing = 0;
-  for (const std::string& scene : scenes) {
-    results.push_back(measure_scene(scene, m, report));
-    differing += results.back().differing;
-  }
-  report.print(std::cout);
-  std::cout << path_tables(results, m, describe_backend(backend));
-  if (!options.common.json.empty()) report.write_json(options.common.json);
-  if (differing > 0) throw Error("a memory path changed the hits: they must be chapter 07's");
+  add_context(report, runner, options.paths);
+  const std::vector<ch07::SceneResult> results =
+      ch07::run_benchmark(scenes, {memory_path_tracers(options.paths, true)}, runner, report);
+  finish(options, report, results, runner);
   return 0;
 }
 
@@ -190,25 +189,26 @@ int run(ChapterOptions& options) {
       render_image(options, backend, scene, camera);
       return 0;
     }
-    MeasureOptions m;
-    m.extent = options.common.extent();
-    check_paths(options, backend);
-    m.backends = report_backends(backend, options.skip_cpu);
-    m.paths = options.paths;
-    m.frames = options.common.frames;
-    m.reference_rays = options.reference_rays;
-    add_context(report, backend, m);
+    ch07::RunnerOptions runner = runner_options(options, backend, options.common.extent());
+    runner.reference_rays = options.reference_rays;
+    add_context(report, runner, options.paths);
     report.add_context("scene",
                        options.scene_path + ", " +
                            group_digits(static_cast<long long>(scene.mesh.triangles.size())) +
                            " triangles");
     report.add_context("mode", ch03::k_headless_mode);
-    const SceneFigures figures = measure_scene(options.scene_path, m, report);
-    report.print(std::cout);
-    std::cout << path_tables({figures}, m, describe_backend(backend));
-    if (!options.common.json.empty()) report.write_json(options.common.json);
-    if (figures.differing > 0)
-      throw Error("a memory path changed the hits: they must be chapter 07's");
+    std::vector<ch07::SceneResult> results;
+    for (const Backend b : report_backends(backend, options.skip_cpu)) {
+      runner.backend = b;
+      const ch07::SceneResult result = ch07::run_scene(
+          {options.scene_path}, {memory_path_tracers(options.paths, true)}, runner, report);
+      if (results.empty())
+        results.push_back(result);
+      else
+        results.front().problems += result.problems;
+    }
+    runner.backend = backend;
+    finish(options, report, results, runner);
     if (!options.common.output.empty()) render_image(options, backend, scene, camera);
     return 0;
   }
