@@ -15,7 +15,6 @@ Only the standard library is used.
 import argparse
 import gzip
 import hashlib
-import io
 import os
 import pathlib
 import shutil
@@ -179,7 +178,10 @@ def measure_obj(data_lines):
             if len(corners) < 3:
                 raise ModelError(f"line {number}: a face of {len(corners)} corners")
             for corner in corners:
-                index = int(corner.split(b"/", 1)[0])
+                try:
+                    index = int(corner.split(b"/", 1)[0])
+                except ValueError:
+                    raise ModelError(f"line {number}: a face corner {corner!r} names no vertex")
                 if index < 0:
                     index += vertices + 1  # relative to the vertices read so far
                 if index < 1:
@@ -308,9 +310,10 @@ def sha256_of(path):
 
 
 def check_sha256(what, path, expected):
-    if expected and sha256_of(path) != expected:
-        raise ModelError(f"{what} has SHA-256 {sha256_of(path)}, expected {expected}: the "
-                         "source has changed, or the download was damaged")
+    actual = sha256_of(path)
+    if actual != expected:
+        raise ModelError(f"{what} has SHA-256 {actual}, expected {expected}: the source has "
+                         "changed, or the download was damaged")
 
 
 def archive_member(archive, kind, member, workdir):
