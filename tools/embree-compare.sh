@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Chapter 07's optional comparison with Embree: builds ch07_embree_compare (only possible where
 # Embree 3 is installed; Debian: apt-get install libembree-dev) and runs it on the benchmark
-# set in ../shared/models. The tables go to OUTDIR/embree-compare.md, the rows to .json.
+# set in models/ (tools/get-models.sh). The tables go to OUTDIR/embree-compare.md, the rows to
+# .json.
 #   tools/embree-compare.sh OUTDIR [options for ch07_embree_compare, e.g. --threads 1]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +16,7 @@ if ! grep -q '^ch07_embree_compare:' <<<"$targets"; then
   exit 1
 fi
 cmake --build build/default --target ch07_embree_compare
-models=../shared/models
+models=models
 scenes=()
 for name in conference sponza-dabrovic stanford-bunny armadillo-100k stanford-dragon; do
   if [ -f "$models/$name.obj.gz" ]; then scenes+=("$models/$name.obj.gz"); fi

@@ -62,7 +62,7 @@ struct ChapterOptions {
   // The benchmark.
   bool benchmark = false;
   std::vector<std::string> benchmark_scenes;
-  std::string models_dir = RT_SHARED_MODELS_DIR;
+  std::string models_dir = RT_MODELS_DIR;
   bool end_to_end = true;
 };
 

@@ -46,7 +46,7 @@ struct ChapterOptions {
   ch03::DisplayChoice display;
   bool benchmark = false;
   std::vector<std::string> benchmark_scenes;
-  std::string models_dir = RT_SHARED_MODELS_DIR;
+  std::string models_dir = RT_MODELS_DIR;
 };
 
 // Paths named with --memory must exist where the run is (`all` takes what exists there).

@@ -7,7 +7,7 @@
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
 #   tests memcheck reports window models bench bench08 sass profile
-# `models` renders the real models of RT_MODELS (default: ../shared/models beside the checkout,
+# `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
 # memory paths. `sass` counts the load instructions of chapter 08's kernels in the machine code
@@ -27,7 +27,10 @@ steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 sass prof
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
-  if [ -d "$root/../shared/models" ]; then models="$root/../shared/models"; else models="$root/.gpu-models"; fi
+  models="$root/.gpu-models"
+  for model in "$root"/models/*.obj.gz; do # a link whose target stayed behind does not count
+    if [ -r "$model" ]; then models="$root/models"; break; fi
+  done
 fi
 step() { # step NAME COMMAND...: runs a command, logs it, remembers a failure
   local name=$1; shift

@@ -1,6 +1,6 @@
-// Timing as ../BENCHMARK.md prescribes it (chapter 01): warm-up runs first, then the median of
-// many timed runs. GPU runs are timed with CUDA events around the launch only; CPU runs with a
-// steady clock.
+// Timing as the benchmark protocol prescribes it (chapter 01; the book's appendix A): warm-up
+// runs first, then the median of many timed runs. GPU runs are timed with CUDA events around
+// the launch only; CPU runs with a steady clock.
 #pragma once
 
 #include <algorithm>
