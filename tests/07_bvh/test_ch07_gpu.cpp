@@ -48,17 +48,26 @@ std::vector<RayF> rays_for_tests(int count) {
 }
 
 // The same triangle for every ray, and the same t: bit for bit with the watertight test, whose
-// arithmetic fuses explicitly; within float rounding with Moller-Trumbore, whose dot products
-// nvcc contracts into FMAs on the GPU only.
-bool same_hits(const std::vector<ch04::MeshHit>& a, const std::vector<ch04::MeshHit>& b,
-               TriangleVariant variant = TriangleVariant::watertight) {
+// arithmetic fuses explicitly.
+bool same_hits(const std::vector<ch04::MeshHit>& a, const std::vector<ch04::MeshHit>& b) {
   if (a.size() != b.size()) return false;
-  const float tolerance = variant == TriangleVariant::watertight ? 0.0f : 1e-6f;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].triangle != b[i].triangle) return false;
-    if (a[i].triangle >= 0 && !(std::abs(a[i].t - b[i].t) <= tolerance * b[i].t)) return false;
-  }
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].triangle != b[i].triangle || (a[i].triangle >= 0 && a[i].t != b[i].t))
+      return false;
   return true;
+}
+
+// Moller-Trumbore's dot products are contracted into FMAs by nvcc on the GPU only, so its t
+// differs from the CPU's in the last bits (relative errors near 1e-6 for short rays), and a ray
+// within rounding of a shared edge may keep the other triangle (the test is not watertight).
+// Rays that differ by more than that: another triangle, or t off by more than 1e-4 relative.
+long long differing_beyond_rounding(const std::vector<ch04::MeshHit>& a,
+                                    const std::vector<ch04::MeshHit>& b) {
+  long long differing = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differing += a[i].triangle != b[i].triangle ||
+                 (a[i].triangle >= 0 && !(std::abs(a[i].t - b[i].t) <= 1e-4f * b[i].t));
+  return differing;
 }
 
 } // namespace
@@ -77,11 +86,22 @@ TEST_CASE("GPU traversal gives the CPU's hits bit for bit", "[ch07][gpu]") {
         CAPTURE(to_string(method), ch04::to_string(variant), to_string(query));
         const auto gpu = trace_rays(Backend::gpu, query, variant, bvh, rays);
         const auto cpu = trace_rays(Backend::cpu, query, variant, bvh, rays);
-        CHECK(same_hits(gpu, cpu, variant));
+        if (variant == TriangleVariant::watertight) {
+          CHECK(same_hits(gpu, cpu));
+        } else {
+          const long long differing = differing_beyond_rounding(gpu, cpu);
+          INFO(differing << " of " << rays.size() << " rays differ beyond rounding");
+          CHECK(differing * 1000 <= static_cast<long long>(rays.size()));
+        }
         if (query == Query::closest) {
-          const HitAgreement a = compare_hits(gpu, ch04::closest_hits_cpu(variant, mesh, rays));
-          CHECK(a.mismatches == 0);
+          const std::vector<ch04::MeshHit> brute = ch04::closest_hits_cpu(variant, mesh, rays);
+          const HitAgreement a = compare_hits(gpu, brute);
           CHECK(a.hits > 5000);
+          if (variant == TriangleVariant::watertight)
+            CHECK(a.mismatches == 0);
+          else
+            CHECK(differing_beyond_rounding(gpu, brute) * 1000 <=
+                  static_cast<long long>(rays.size()));
         }
       }
     }
@@ -102,8 +122,11 @@ TEST_CASE("GPU and CPU trace the 100k-triangle model's camera rays alike", "[ch0
        {TriangleVariant::moller_trumbore, TriangleVariant::watertight}) {
     CAPTURE(ch04::to_string(variant));
     const auto gpu = trace_rays(Backend::gpu, Query::closest, variant, bvh, rays);
-    CHECK(
-        same_hits(gpu, trace_rays(Backend::cpu, Query::closest, variant, bvh, rays), variant));
+    const auto cpu = trace_rays(Backend::cpu, Query::closest, variant, bvh, rays);
+    if (variant == TriangleVariant::watertight)
+      CHECK(same_hits(gpu, cpu));
+    else
+      CHECK(differing_beyond_rounding(gpu, cpu) * 1000 <= static_cast<long long>(rays.size()));
     const HitAgreement a = compare_hits(gpu, ch04::closest_hits_cpu(variant, mesh, rays));
     CHECK(a.hits > 5000);
     if (variant == TriangleVariant::watertight) CHECK(a.mismatches == 0);
