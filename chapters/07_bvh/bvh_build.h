@@ -46,11 +46,4 @@ Bvh build_bvh(const ch04::Mesh& mesh, const BuildOptions& options);
 // the root's is Bvh::bounds. Computed in double, so it stays finite for any float mesh.
 double sah_cost(const Bvh& bvh);
 
-// Everything the traversal relies on, checked against the mesh the tree was built from: each
-// triangle in exactly one leaf, copied bit for bit; boxes that contain what lies below them;
-// the depth-first layout; depth and leaf sizes within bounds; stats that agree with the tree.
-// Returns one line per problem found; empty means valid. Safe on any input: a corrupt tree
-// gives problems, never a crash or an endless walk.
-std::vector<std::string> check_bvh(const Bvh& bvh, const ch04::Mesh& mesh);
-
 } // namespace rt::ch07

@@ -13,6 +13,7 @@
 #include "rt_catch.h"
 
 #include "bvh_build.h"
+#include "check_bvh.h"
 #include "mesh_gen.h"
 #include "rt/error.h"
 
