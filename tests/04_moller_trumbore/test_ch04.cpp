@@ -15,6 +15,7 @@
 #include "leak_configurations.h"
 #include "mesh_gen.h"
 #include "mesh_render.h"
+#include "triangle_cases.h"
 #include "triangles.h"
 
 using namespace rt;
@@ -306,9 +307,7 @@ TEST_CASE("demo scene render: no holes against float64, at the origin and moved 
   for (double offset : {0.0, 1e5}) {
     const Vec3d shift{offset, offset, offset};
     const ch04::TriangleScene scene = ch04::make_demo_scene(2, shift);
-    ch03::CameraSpec spec;
-    spec.eye = Vec3d{0.0, 2.2, 6.5} + shift;
-    spec.target = Vec3d{0.3, 0.7, 0.0} + shift;
+    const ch03::CameraSpec spec = rt::testing::demo_scene_camera(shift);
     const ch04::MeshReference reference = ch04::render_triangles_reference(scene, spec, extent);
     for (TriangleVariant variant : k_variants) {
       Image image(extent.width, extent.height);

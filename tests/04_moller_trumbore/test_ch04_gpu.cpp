@@ -13,6 +13,7 @@
 #include "leak_configurations.h"
 #include "mesh_render.h"
 #include "rt/device_buffer.h"
+#include "triangle_cases.h"
 #include "triangles.h"
 
 using namespace rt;
@@ -111,9 +112,7 @@ TEST_CASE("GPU render of the demo scene equals the CPU's, with no holes", "[ch04
   RT_REQUIRE_GPU();
   const Extent extent{320, 180};
   const ch04::TriangleScene scene = ch04::make_demo_scene(2, {0, 0, 0});
-  ch03::CameraSpec spec;
-  spec.eye = {0.0, 2.2, 6.5};
-  spec.target = {0.3, 0.7, 0.0};
+  const ch03::CameraSpec spec = rt::testing::demo_scene_camera();
   const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
   const ch04::MeshReference reference = ch04::render_triangles_reference(scene, spec, extent);
   const ch04::DeviceTriangleScene d_scene(scene);

@@ -11,11 +11,10 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include "rt_catch.h"
 
 #include "run_program.h"
+#include "shading_cases.h"
 
 #include "obj_loader.h"
 #include "rt/error.h"
@@ -25,6 +24,9 @@
 
 using namespace rt;
 using namespace rt::ch06;
+using rt::testing::records_differing;
+using rt::testing::render_cpu;
+using rt::testing::ShadedFrame;
 
 namespace {
 
@@ -70,22 +72,6 @@ ShadedSample<T> shade(const ShadedScene& scene, unsigned features, Vec3d origin,
 }
 
 bool finite(Vec3f c) { return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z); }
-
-struct CpuFrame {
-  Image image;
-  std::vector<ShadedPixelRecord> records;
-};
-
-CpuFrame render_cpu(const ShadedScene& scene, KernelKind kind, unsigned features,
-                    const CameraSpec& spec, Extent extent) {
-  CpuFrame frame{Image(extent.width, extent.height),
-                 std::vector<ShadedPixelRecord>(extent.pixel_count())};
-  render_shaded(Backend::cpu, kind, features,
-                host_view(scene, uploaded_features(kind, features)),
-                ch03::make_camera<float>(spec, extent), extent, frame.image.pixels.data(),
-                frame.records.data());
-  return frame;
-}
 
 } // namespace
 
@@ -158,7 +144,7 @@ TEST_CASE("a sphere under a head-on light: brightest at the centre, cosine fallo
   spec.target = {0, 0, 0};
   spec.kind = ch03::CameraKind::orthographic;
   const Extent extent{41, 41};
-  const CpuFrame frame =
+  const ShadedFrame frame =
       render_cpu(scene, KernelKind::specialised, k_smooth_normals, spec, extent);
   int brightest = 0;
   for (std::size_t i = 0; i < frame.image.pixels.size(); ++i)
@@ -327,7 +313,7 @@ TEST_CASE("no shadow acne on a convex mesh at scales 1, 1e3 and 1e6", "[ch06]") 
     for (const bool smooth : {false, true}) {
       const unsigned features = features_used(sphere, smooth, true);
       REQUIRE(features == ((smooth ? k_smooth_normals : 0u) | k_shadows | k_point_lights));
-      const CpuFrame frame =
+      const ShadedFrame frame =
           render_cpu(sphere, KernelKind::specialised, features, spec, extent);
       long long rays = 0, acne = 0, hits = 0;
       for (const ShadedPixelRecord& r : frame.records) {
@@ -394,18 +380,12 @@ TEST_CASE("specialised kernels and the all-features kernel give identical frames
     CAPTURE(features, describe_features(features));
     // The specialised kernel gets only the arrays its features read: a flat one reads no
     // normals (null pointers here), or this test would crash.
-    const CpuFrame specialised =
+    const ShadedFrame specialised =
         render_cpu(scene, KernelKind::specialised, features, spec, extent);
-    const CpuFrame generic =
+    const ShadedFrame generic =
         render_cpu(scene, KernelKind::all_features, features, spec, extent);
     CHECK(count_differing_pixels(specialised.image.pixels, generic.image.pixels) == 0);
-    long long records_differing = 0;
-    for (std::size_t i = 0; i < specialised.records.size(); ++i) {
-      const ShadedPixelRecord &a = specialised.records[i], &b = generic.records[i];
-      records_differing += a.triangle != b.triangle || a.shadow_rays != b.shadow_rays ||
-                           a.shadowed_facing != b.shadowed_facing || a.nan != b.nan;
-    }
-    CHECK(records_differing == 0);
+    CHECK(records_differing(specialised.records, generic.records) == 0);
   }
 }
 
@@ -416,7 +396,8 @@ TEST_CASE("frames against the float64 reference: close, and no NaN", "[ch06]") {
   for (const bool smooth : {false, true}) {
     for (const bool shadows : {false, true}) {
       const unsigned features = features_used(scene, smooth, shadows);
-      const CpuFrame frame = render_cpu(scene, KernelKind::specialised, features, spec, extent);
+      const ShadedFrame frame =
+          render_cpu(scene, KernelKind::specialised, features, spec, extent);
       const ShadedReference reference = render_shaded_reference(scene, features, spec, extent);
       const ShadedFrameError e =
           compare_with_reference(frame.image, frame.records, reference.image);
@@ -509,17 +490,12 @@ namespace {
 
 using rt::testing::ProgramRun;
 
-ProgramRun run_program(const std::string& arguments) {
-  return rt::testing::run_command(std::string(RT_CH06_PROGRAM) + " --headless --backend cpu " +
-                                  arguments);
-}
+const rt::testing::HeadlessCpuProgram run_program(RT_CH06_PROGRAM);
 
 } // namespace
 
 TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch06]") {
-  const std::filesystem::path folder =
-      std::filesystem::temp_directory_path() / ("rt_ch06_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch06");
   const std::string broken = (folder / "broken.obj").string();
   std::ofstream(broken) << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
   const std::string good = (folder / "good.obj").string();
@@ -544,7 +520,7 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch06]
     CAPTURE(c.arguments, run.output);
     CHECK(run.exit_code == c.exit_code);
     CHECK_THAT(run.output, rt::testing::starts_with("ch06_lambertian_shading: error: "));
-    CHECK(std::count(run.output.begin(), run.output.end(), '\n') == 1);
+    CHECK(rt::testing::line_count(run.output) == 1);
   }
   // A good file renders, framed automatically.
   const std::string image = (folder / "good.png").string();

@@ -10,47 +10,30 @@
 #include "rt/device_buffer.h"
 #include "shaded_render.h"
 #include "shaded_scene.h"
+#include "shading_cases.h"
 
 using namespace rt;
 using namespace rt::ch06;
+using rt::testing::records_differing;
+using rt::testing::render_cpu;
+using rt::testing::ShadedFrame;
 
 namespace {
 
-struct Frame {
-  Image image;
-  std::vector<ShadedPixelRecord> records;
-};
-
-Frame render(Backend backend, const ShadedScene& scene, KernelKind kind, unsigned features,
-             const CameraSpec& spec, Extent extent) {
-  Frame frame{Image(extent.width, extent.height),
-              std::vector<ShadedPixelRecord>(extent.pixel_count())};
-  const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
-  const unsigned uploaded = uploaded_features(kind, features);
-  if (backend == Backend::cpu) {
-    render_shaded(backend, kind, features, host_view(scene, uploaded), camera, extent,
-                  frame.image.pixels.data(), frame.records.data());
-    return frame;
-  }
-  const DeviceShadedScene d_scene(scene, uploaded);
+ShadedFrame render(Backend backend, const ShadedScene& scene, KernelKind kind,
+                   unsigned features, const CameraSpec& spec, Extent extent) {
+  if (backend == Backend::cpu) return render_cpu(scene, kind, features, spec, extent);
+  ShadedFrame frame{Image(extent.width, extent.height),
+                    std::vector<ShadedPixelRecord>(extent.pixel_count())};
+  const DeviceShadedScene d_scene(scene, uploaded_features(kind, features));
   DeviceBuffer<Rgba8> d_pixels(frame.image.pixels.size());
   DeviceBuffer<ShadedPixelRecord> d_records(frame.records.size());
   d_pixels.fill_bytes(0xff); // poisoned: a pixel the kernel skips shows
-  render_shaded(backend, kind, features, d_scene.view(), camera, extent, d_pixels.data(),
-                d_records.data());
+  render_shaded(backend, kind, features, d_scene.view(), ch03::make_camera<float>(spec, extent),
+                extent, d_pixels.data(), d_records.data());
   d_pixels.download(frame.image.pixels);
   d_records.download(frame.records);
   return frame;
-}
-
-long long records_differing(const Frame& a, const Frame& b) {
-  long long differing = 0;
-  for (std::size_t i = 0; i < a.records.size(); ++i) {
-    const ShadedPixelRecord &p = a.records[i], &q = b.records[i];
-    differing += p.triangle != q.triangle || p.shadow_rays != q.shadow_rays ||
-                 p.shadowed_facing != q.shadowed_facing || p.nan != q.nan;
-  }
-  return differing;
 }
 
 } // namespace
@@ -62,12 +45,12 @@ TEST_CASE("GPU specialised kernels give the all-features kernel's images", "[ch0
   const Extent extent{160, 90};
   for (unsigned features = 0; features <= k_all_features; ++features) {
     CAPTURE(features, describe_features(features));
-    const Frame specialised =
+    const ShadedFrame specialised =
         render(Backend::gpu, scene, KernelKind::specialised, features, spec, extent);
-    const Frame generic =
+    const ShadedFrame generic =
         render(Backend::gpu, scene, KernelKind::all_features, features, spec, extent);
     CHECK(count_differing_pixels(specialised.image.pixels, generic.image.pixels) == 0);
-    CHECK(records_differing(specialised, generic) == 0);
+    CHECK(records_differing(specialised.records, generic.records) == 0);
     const int registers = kernel_registers(KernelKind::specialised, features);
     std::printf("GPU kernel for %-38s %3d registers (all-features kernel: %d)\n",
                 describe_features(features).c_str(), registers,
@@ -84,9 +67,9 @@ TEST_CASE("GPU frames agree with the CPU's and have no NaN", "[ch06][gpu]") {
   for (const bool smooth : {false, true}) {
     for (const bool shadows : {false, true}) {
       const unsigned features = features_used(scene, smooth, shadows);
-      const Frame gpu =
+      const ShadedFrame gpu =
           render(Backend::gpu, scene, KernelKind::specialised, features, spec, extent);
-      const Frame cpu =
+      const ShadedFrame cpu =
           render(Backend::cpu, scene, KernelKind::specialised, features, spec, extent);
       const ShadedFrameError against_cpu =
           compare_with_reference(gpu.image, gpu.records, cpu.image);
@@ -96,7 +79,7 @@ TEST_CASE("GPU frames agree with the CPU's and have no NaN", "[ch06][gpu]") {
       CHECK(against_cpu.pixels_differing <= extent.pixel_count() / 200);
       CHECK(against_cpu.rmse < 1.0);
       CHECK(against_cpu.nan_pixels == 0);
-      CHECK(records_differing(gpu, cpu) <= extent.pixel_count() / 200);
+      CHECK(records_differing(gpu.records, cpu.records) <= extent.pixel_count() / 200);
     }
   }
 }
@@ -122,7 +105,7 @@ TEST_CASE("GPU: no shadow acne on a convex mesh at scales 1 to 1e6", "[ch06][gpu
     const CameraSpec spec = frame_bounds(bounds_of(sphere.mesh), 40.0);
     for (const bool smooth : {false, true}) {
       const unsigned features = features_used(sphere, smooth, true);
-      const Frame frame =
+      const ShadedFrame frame =
           render(Backend::gpu, sphere, KernelKind::specialised, features, spec, extent);
       long long rays = 0, acne = 0, nan = 0;
       for (const ShadedPixelRecord& r : frame.records) {

@@ -12,6 +12,8 @@
 
 #include "rt_catch.h"
 
+#include "bvh_cases.h"
+
 #include "bvh_build.h"
 #include "check_bvh.h"
 #include "mesh_gen.h"
@@ -19,18 +21,11 @@
 
 using namespace rt;
 using namespace rt::ch07;
+using rt::testing::options_of;
 
 namespace {
 
 constexpr int k_deepest = k_max_bvh_depth - 1; // the deepest an interior node may sit
-
-BuildOptions options_of(SplitMethod method, int max_leaf_size, int bins = 16) {
-  BuildOptions options;
-  options.method = method;
-  options.max_leaf_size = max_leaf_size;
-  options.bins = bins;
-  return options;
-}
 
 void add_triangle(ch04::Mesh& mesh, Vec3f a, Vec3f b, Vec3f c) {
   const int first = static_cast<int>(mesh.vertices.size());
@@ -40,7 +35,7 @@ void add_triangle(ch04::Mesh& mesh, Vec3f a, Vec3f b, Vec3f c) {
 
 // Triangles scattered in the cube [-1, 1]^3 with sizes from 1e-5 to 0.2 (log-uniform), so
 // that small and large boxes mix and overlap, as in a real scene.
-ch04::Mesh random_soup(int count, unsigned seed) {
+ch04::Mesh log_sized_soup(int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::uniform_real_distribution<double> log_size(-5.0, std::log10(0.2));
@@ -199,7 +194,7 @@ TEST_CASE("the split methods have the names the command line uses", "[ch07]") {
 
 TEST_CASE("both methods build valid trees for every leaf size and bin count", "[ch07]") {
   const std::vector<ch04::Mesh> meshes = {
-      random_soup(3000, 7), random_soup(500, 8),
+      log_sized_soup(3000, 7), log_sized_soup(500, 8),
       ch04::make_icosphere(3, {0.5, -0.25, 2.0}, 1.5),
       ch04::make_box({-1.0, -2.0, -3.0}, {4.0, 5.0, 6.0}, 6)};
   for (std::size_t m = 0; m < meshes.size(); ++m) {
@@ -209,7 +204,7 @@ TEST_CASE("both methods build valid trees for every leaf size and bin count", "[
 }
 
 TEST_CASE("the build is deterministic", "[ch07]") {
-  const ch04::Mesh mesh = random_soup(2000, 11);
+  const ch04::Mesh mesh = log_sized_soup(2000, 11);
   for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
     const Bvh a = build_bvh(mesh, options_of(method, 4));
     const Bvh b = build_bvh(mesh, options_of(method, 4));
@@ -254,7 +249,7 @@ TEST_CASE("four triangles in a row give the expected depth-first tree", "[ch07]"
 }
 
 TEST_CASE("check_bvh reports each kind of damage", "[ch07]") {
-  const ch04::Mesh mesh = random_soup(1000, 3);
+  const ch04::Mesh mesh = log_sized_soup(1000, 3);
   const Bvh good = build_bvh(mesh, options_of(SplitMethod::sah, 4));
   REQUIRE(check_bvh(good, mesh).empty());
   REQUIRE(good.nodes.size() > 4);
@@ -454,12 +449,12 @@ TEST_CASE("degenerate inputs terminate with bounded leaves and depth", "[ch07]")
     }
   }
   SECTION("every triangle in the plane x = 0") {
-    ch04::Mesh mesh = random_soup(5000, 21);
+    ch04::Mesh mesh = log_sized_soup(5000, 21);
     for (Vec3f& p : mesh.vertices) p.x = 0.0f;
     require_every_build_valid(mesh);
   }
   SECTION("zero-area triangles: repeated and collinear vertices") {
-    ch04::Mesh mesh = random_soup(4000, 22);
+    ch04::Mesh mesh = log_sized_soup(4000, 22);
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
       ch04::IndexedTriangle& t = mesh.triangles[i];
       if (i % 2 == 0) {
@@ -609,7 +604,7 @@ TEST_CASE("halving_levels counts the levels of a build that halves every node", 
   CHECK(halving_levels(k_max_bvh_triangles, 1) == 28);
   CHECK(halving_levels(k_max_bvh_triangles, 64) == 22);
   // The median build halves every node: its depth is one less than the levels it needs.
-  const ch04::Mesh soup = random_soup(5000, 9);
+  const ch04::Mesh soup = log_sized_soup(5000, 9);
   for (const int leaf : {1, 2, 3, 4, 7, 8, 64}) {
     for (const int n : {1, 2, 3, 5, 63, 64, 65, 100, 1000, 1023, 1024, 1025, 4097, 5000}) {
       INFO("leaf size " << leaf << ", " << n << " triangles");
@@ -626,7 +621,7 @@ TEST_CASE("scaling by a power of two changes nothing, from 1e-30 to 2e38", "[ch0
   // Float squares of 1e37 overflow and of 1e-30 underflow, and at 2^127 (coordinates up to
   // 2e38) even the sum of two coordinates overflows. The build must still make the same
   // decisions: the SAH only ever compares ratios of areas, the median only orders centroids.
-  const ch04::Mesh mesh = random_soup(3000, 13);
+  const ch04::Mesh mesh = log_sized_soup(3000, 13);
   for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
     const Bvh reference = build_bvh(mesh, options_of(method, 4));
     for (const int exponent : {-100, 40, 123, 127}) {
@@ -651,7 +646,7 @@ TEST_CASE("coordinates near the largest float and far from the origin", "[ch07]"
   SECTION("a soup spanning -2e38 .. 2e38") {
     // (a + b + c) / 3 and (lo + hi) / 2 overflow here; the box centre 0.5 lo + 0.5 hi does
     // not, and neither do the areas, taken in double.
-    const ch04::Mesh mesh = scaled_by_power_of_two(random_soup(2000, 17), 127);
+    const ch04::Mesh mesh = scaled_by_power_of_two(log_sized_soup(2000, 17), 127);
     require_every_build_valid(mesh);
     const Bvh sah = build_bvh(mesh, options_of(SplitMethod::sah, 4));
     const Bvh median = build_bvh(mesh, options_of(SplitMethod::median, 4));
@@ -660,7 +655,7 @@ TEST_CASE("coordinates near the largest float and far from the origin", "[ch07]"
   }
   SECTION("a soup and a sphere 1e7 from the origin") {
     // At 1e7 a float's step is 1: the small triangles collapse to lines and points.
-    require_every_build_valid(translated(random_soup(3000, 19), {1e7f, -1e7f, 1e7f}));
+    require_every_build_valid(translated(log_sized_soup(3000, 19), {1e7f, -1e7f, 1e7f}));
     require_every_build_valid(ch04::make_icosphere(3, {1e7, 1e7, 1e7}, 10.0));
   }
 }
@@ -716,7 +711,7 @@ TEST_CASE("the stats describe the tree", "[ch07]") {
 }
 
 TEST_CASE("bad options and bad triangles are input errors naming the culprit", "[ch07]") {
-  const ch04::Mesh mesh = random_soup(20, 1);
+  const ch04::Mesh mesh = log_sized_soup(20, 1);
   CHECK(input_error_of(mesh, options_of(SplitMethod::sah, 0)) ==
         "--leaf-size 0: a leaf holds 1 to 64 triangles");
   CHECK(input_error_of(mesh, options_of(SplitMethod::median, 65)) ==

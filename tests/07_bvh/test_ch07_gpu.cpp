@@ -8,6 +8,8 @@
 
 #include "rt_catch.h"
 
+#include "bvh_cases.h"
+
 #include "bvh_build.h"
 #include "bvh_render.h"
 #include "bvh_trace.h"
@@ -19,24 +21,16 @@
 
 using namespace rt;
 using namespace rt::ch07;
+using namespace rt::testing;
 using ch04::TriangleVariant;
 
 namespace {
 
-ch04::Mesh scene_for_tests() {
-  ch04::Mesh mesh = ch04::make_icosphere(4, {0.5, 0.0, -0.5}, 1.5);
-  ch04::append_mesh(mesh, ch04::make_box({-3.0, -2.0, -3.0}, {3.0, -1.5, 3.0}, 8));
-  return mesh;
-}
-
+// Random rays into sphere_over_box(), and a few at the edge: NaN, infinity, no direction, along
+// the box's top face, from far away.
 std::vector<RayF> rays_for_tests(int count) {
   std::mt19937 rng(5);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  std::vector<RayF> rays;
-  for (int i = 0; i < count; ++i) {
-    const Vec3f o{4.0f * unit(rng), 4.0f * unit(rng), 4.0f * unit(rng)};
-    rays.push_back({o, Vec3f{unit(rng), unit(rng), unit(rng)} * 0.5f - o * 0.25f});
-  }
+  std::vector<RayF> rays = rays_towards_origin(rng, count, Intervals::whole);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
   rays.push_back({{nan, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}});
@@ -74,7 +68,7 @@ long long differing_beyond_rounding(const std::vector<ch04::MeshHit>& a,
 
 TEST_CASE("GPU traversal gives the CPU's hits bit for bit", "[ch07][gpu]") {
   RT_REQUIRE_GPU();
-  const ch04::Mesh mesh = scene_for_tests();
+  const ch04::Mesh mesh = sphere_over_box();
   const std::vector<RayF> rays = rays_for_tests(20000);
   for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
     BuildOptions options;
@@ -135,7 +129,7 @@ TEST_CASE("GPU and CPU trace the 100k-triangle model's camera rays alike", "[ch0
 
 TEST_CASE("GPU brute force agrees with the CPU's", "[ch07][gpu]") {
   RT_REQUIRE_GPU();
-  const ch04::Mesh mesh = scene_for_tests();
+  const ch04::Mesh mesh = sphere_over_box();
   const std::vector<RayF> rays = rays_for_tests(3000);
   const DeviceBuffer<Vec3f> d_vertices{std::span<const Vec3f>(mesh.vertices)};
   const DeviceBuffer<ch04::IndexedTriangle> d_triangles{
@@ -151,11 +145,7 @@ TEST_CASE("GPU brute force agrees with the CPU's", "[ch07][gpu]") {
 
 TEST_CASE("GPU shaded frame through the tree is chapter 06's frame", "[ch07][gpu]") {
   RT_REQUIRE_GPU();
-  const ch06::ShadedScene scene = ch06::make_default_scene(3, 1.0, {});
-  const Bvh bvh = build_bvh(scene.mesh, {});
-  const Extent extent{160, 90};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  const auto [scene, bvh, extent, camera] = shaded_tree_case(3, {160, 90});
   for (const bool smooth : {false, true}) {
     CAPTURE(smooth);
     const unsigned features = ch06::features_used(scene, smooth, true);

@@ -23,13 +23,9 @@ using namespace rt::ch07;
 
 namespace {
 
-using rt::testing::line_count;
 using rt::testing::ProgramRun;
 
-ProgramRun run_program(const std::string& arguments) {
-  return rt::testing::run_command(std::string(RT_CH07_PROGRAM) + " --headless --backend cpu " +
-                                  arguments);
-}
+const rt::testing::HeadlessCpuProgram run_program(RT_CH07_PROGRAM);
 
 const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
 
@@ -124,12 +120,7 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch07]
         .write(reinterpret_cast<const char*>(ray), sizeof ray);
   }
   const std::string hits = (folder / "out.bin").string();
-  struct Case {
-    std::string arguments;
-    int exit_code;
-    const char* says;
-  };
-  const Case cases[] = {
+  const rt::testing::RefusedInput cases[] = {
       {"--rays " + truncated + " --hits " + hits, 1, "32-byte rays"},
       {"--rays " + nan_rays + " --hits " + hits, 1, "not finite"},
       {"--rays " + (folder / "missing.bin").string() + " --hits " + hits, 1, "missing.bin"},
@@ -146,12 +137,5 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch07]
            " --width 8 --height 8",
        1, "dir.bin"},
   };
-  for (const Case& c : cases) {
-    CAPTURE(c.arguments);
-    const ProgramRun run = run_program(c.arguments);
-    INFO(run.output);
-    CHECK(run.exit_code == c.exit_code);
-    CHECK(line_count(run.output) == 1);
-    CHECK_THAT(run.output, rt::testing::contains(c.says));
-  }
+  rt::testing::check_refused(run_program, cases);
 }

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -15,6 +14,8 @@
 #include <vector>
 
 #include "rt_catch.h"
+
+#include "bvh_cases.h"
 
 #include "gpu_guard.h"
 #include "protocol.h"
@@ -26,6 +27,8 @@
 using namespace rt;
 using namespace rt::ch07;
 using rt::testing::contains;
+using rt::testing::count_hits;
+using rt::testing::same_bits;
 
 namespace {
 
@@ -41,16 +44,6 @@ Vec3d cross_d(Vec3d a, Vec3d b) {
 Vec3d normalize_d(Vec3d v) { return v / std::sqrt(dot(v, v)); }
 
 double distance_d(Vec3d a, Vec3d b) { return std::sqrt(length_squared(a - b)); }
-
-// Bit-for-bit equality: == would call -0 and 0 equal and NaN unequal to itself.
-template <class T> bool same_bits(const T& a, const T& b) {
-  return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
-template <class T> bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() &&
-         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
 
 // Unit normals spread over the sphere (a Fibonacci spiral), plus the poles and the places where
 // frame constructions break: n.z = -1 and just beside it, n.z = -0, the equator.
@@ -120,11 +113,6 @@ template <class E, class F> std::string thrown_message(F&& f) {
   return {};
 }
 
-long long count_hits(const std::vector<MeshHit>& hits) {
-  return std::count_if(hits.begin(), hits.end(),
-                       [](const MeshHit& h) { return h.triangle >= 0; });
-}
-
 } // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -136,7 +124,7 @@ TEST_CASE("pcg2d gives the protocol's test vectors exactly", "[ch07]") {
   CHECK(same_bits(pcg2d_uniforms(960, 540), Vec2f{0.811587811f, 0.0957951546f}));
 }
 
-TEST_CASE("pcg2d uniforms are multiples of 2^-24 from 0 up to 1 and evenly spread", "[ch07]") {
+TEST_CASE("pcg2d uniforms are multiples of 2^-24 from 0 to below 1, evenly spread", "[ch07]") {
   constexpr int k_side = 256;
   std::vector<int> histogram(16, 0);
   for (int j = 0; j < k_side; ++j)

@@ -11,6 +11,8 @@
 
 #include "rt_catch.h"
 
+#include "bvh_cases.h"
+
 #include "bvh_build.h"
 #include "bvh_render.h"
 #include "bvh_trace.h"
@@ -20,47 +22,13 @@
 
 using namespace rt;
 using namespace rt::ch07;
+using namespace rt::testing;
 using ch04::Mesh;
 using ch04::TriangleVariant;
 
 namespace {
 
 constexpr float k_inf = std::numeric_limits<float>::infinity();
-
-// A soup of triangles of mixed sizes in a box of side `extent` around `centre`.
-Mesh random_soup(int count, unsigned seed, Vec3f centre = {}, float extent = 10.0f) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> where(-0.5f * extent, 0.5f * extent);
-  std::uniform_real_distribution<float> size(0.001f * extent, 0.08f * extent);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  Mesh mesh;
-  for (int i = 0; i < count; ++i) {
-    const Vec3f c = centre + Vec3f{where(rng), where(rng), where(rng)};
-    const float s = size(rng);
-    const int base = static_cast<int>(mesh.vertices.size());
-    for (int k = 0; k < 3; ++k)
-      mesh.vertices.push_back(c + Vec3f{unit(rng), unit(rng), unit(rng)} * s);
-    mesh.triangles.push_back({base, base + 1, base + 2});
-  }
-  return mesh;
-}
-
-// Rays from around the scene through it, plus some from inside; a few with a finite tmax.
-std::vector<RayF> random_rays(int count, unsigned seed, Vec3f centre, float extent) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  std::vector<RayF> rays;
-  for (int i = 0; i < count; ++i) {
-    const float reach = (i % 4 == 0) ? 0.4f * extent : 1.2f * extent;
-    const Vec3f o = centre + Vec3f{unit(rng), unit(rng), unit(rng)} * reach;
-    const Vec3f target = centre + Vec3f{unit(rng), unit(rng), unit(rng)} * (0.3f * extent);
-    RayF ray{o, target - o};
-    if (i % 5 == 0) ray.tmax = 0.5f + 0.5f * unit(rng);
-    if (i % 7 == 0) ray.tmin = 0.1f;
-    rays.push_back(ray);
-  }
-  return rays;
-}
 
 // The tree's closest hit agrees with brute force: the same triangle, or another at exactly the
 // same distance (a tie, where the order of the tests decides).
@@ -105,19 +73,10 @@ int compare_any(TriangleVariant variant, const Mesh& mesh, const Bvh& bvh,
   return mismatches;
 }
 
-BuildOptions options_of(SplitMethod method, int leaf) {
-  BuildOptions o;
-  o.method = method;
-  o.max_leaf_size = leaf;
-  return o;
-}
-
 } // namespace
 
 TEST_CASE("the tree gives brute force's hits on random scenes and rays", "[ch07]") {
-  Mesh scene = random_soup(3000, 7);
-  ch04::append_mesh(scene, ch04::make_icosphere(3, {2.0, 0.5, -1.0}, 2.0));
-  ch04::append_mesh(scene, ch04::make_box({-4.0, -4.0, -4.0}, {-2.0, -1.0, 3.0}, 4));
+  const Mesh scene = mixed_scene(3000, 7);
   const std::vector<RayF> rays = random_rays(4000, 11, {}, 10.0f);
   for (const SplitMethod method : {SplitMethod::median, SplitMethod::sah}) {
     for (const int leaf : {1, 4, 8}) {
@@ -244,17 +203,7 @@ TEST_CASE("rays along the faces of axis-aligned boxes agree with brute force", "
 TEST_CASE("NaN and infinite rays miss at once", "[ch07]") {
   const Mesh scene = random_soup(500, 9);
   const Bvh bvh = build_bvh(scene, {});
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const RayF bad[] = {
-      {{nan, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}},
-      {{0.0f, 0.0f, -20.0f}, {0.0f, nan, 1.0f}},
-      {{k_inf, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}},
-      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, k_inf}},
-      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 0.0f}}, // no direction
-      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 1.0f}, nan, k_inf},
-      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 1.0f}, 0.0f, nan},
-  };
-  for (const RayF& ray : bad) {
+  for (const RayF& ray : hostile_rays()) {
     for (const auto query : {Query::closest, Query::any}) {
       Counters c;
       const TraceHit hit =
@@ -302,10 +251,7 @@ TEST_CASE("empty and single-triangle trees", "[ch07]") {
   CHECK(trace_bvh<Query::closest>(TriangleVariant::watertight, empty.view(),
                                   RayF{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}})
             .triangle == -1);
-  Mesh one;
-  one.vertices = {{-1.0f, -1.0f, 3.0f}, {1.0f, -1.0f, 3.0f}, {0.0f, 1.0f, 3.0f}};
-  one.triangles = {{0, 1, 2}};
-  const Bvh single = build_bvh(one, {});
+  const Bvh single = build_bvh(single_triangle(), {});
   const TraceHit hit = trace_bvh<Query::closest>(TriangleVariant::watertight, single.view(),
                                                  RayF{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}});
   CHECK(hit.triangle == 0);
@@ -335,11 +281,7 @@ TEST_CASE("no ray leaks out of a closed mesh through the tree", "[ch07]") {
 }
 
 TEST_CASE("chapter 06's shading traced through the tree gives chapter 06's image", "[ch07]") {
-  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
-  const Bvh bvh = build_bvh(scene.mesh, {});
-  const Extent extent{96, 54};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  const auto [scene, bvh, extent, camera] = shaded_tree_case(2, {96, 54});
   for (const bool smooth : {false, true}) {
     const unsigned features = ch06::features_used(scene, smooth, true);
     const ch06::SceneView view = ch06::host_view(scene, features);

@@ -16,6 +16,10 @@
 
 #include "rt_catch.h"
 
+#include "06_lambertian_shading/shading_cases.h"
+#include "07_bvh/bvh_cases.h"
+#include "memory_cases.h"
+
 #include "bvh_build.h"
 #include "bvh_render.h"
 #include "bvh_trace.h"
@@ -30,63 +34,26 @@
 
 using namespace rt;
 using namespace rt::ch08;
+using namespace rt::testing;
 using ch04::Mesh;
 using ch04::MeshHit;
 using ch07::build_bvh;
-using ch07::BuildOptions;
 using ch07::Query;
 using ch07::SplitMethod;
 using ch07::TraceHit;
-using rt::testing::contains;
 
 namespace {
 
 constexpr float k_inf = std::numeric_limits<float>::infinity();
-constexpr ch04::TriangleVariant k_watertight = ch04::TriangleVariant::watertight;
 
-// A soup of triangles of mixed sizes in a box of side `extent` around the origin.
-Mesh random_soup(int count, unsigned seed, float extent = 10.0f) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> where(-0.5f * extent, 0.5f * extent);
-  std::uniform_real_distribution<float> size(0.001f * extent, 0.08f * extent);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  Mesh mesh;
-  for (int i = 0; i < count; ++i) {
-    const Vec3f c{where(rng), where(rng), where(rng)};
-    const float s = size(rng);
-    const int base = static_cast<int>(mesh.vertices.size());
-    for (int k = 0; k < 3; ++k)
-      mesh.vertices.push_back(c + Vec3f{unit(rng), unit(rng), unit(rng)} * s);
-    mesh.triangles.push_back({base, base + 1, base + 2});
-  }
-  return mesh;
-}
-
-// The soup with a closed sphere and a grid box in it: flat node boxes, faces on slab planes.
-Mesh mixed_scene(int soup, unsigned seed) {
-  Mesh scene = random_soup(soup, seed);
-  ch04::append_mesh(scene, ch04::make_icosphere(3, {2.0, 0.5, -1.0}, 2.0));
-  ch04::append_mesh(scene, ch04::make_box({-4.0, -4.0, -4.0}, {-2.0, -1.0, 3.0}, 4));
-  return scene;
-}
-
-// Random rays through the scene (some with a finite tmax or a tmin), rays aimed at triangles'
-// centroids, vertices and edge midpoints (so small scenes are hit too, and rays meet edges
-// and corners where the watertight test decides), rays along the grid box's faces, and the
-// hostile rays that must miss at once: NaN, infinity, a zero direction.
+// Random rays through mixed_scene() (some with a finite tmax or a tmin), rays aimed at
+// triangles' centroids, vertices and edge midpoints (so small scenes are hit too, and rays
+// meet edges and corners where the watertight test decides), rays along the grid box's faces,
+// and the hostile rays that must miss at once: NaN, infinity, a zero direction.
 std::vector<RayF> rays_for(const Mesh& mesh, int random_count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  std::vector<RayF> rays;
-  for (int i = 0; i < random_count; ++i) {
-    const float reach = (i % 4 == 0) ? 4.0f : 12.0f;
-    const Vec3f o = Vec3f{unit(rng), unit(rng), unit(rng)} * reach;
-    const Vec3f target = Vec3f{unit(rng), unit(rng), unit(rng)} * 3.0f;
-    RayF ray{o, target - o};
-    if (i % 5 == 0) ray.tmax = 0.5f + 0.5f * unit(rng);
-    if (i % 7 == 0) ray.tmin = 0.1f;
-    rays.push_back(ray);
-  }
+  std::vector<RayF> rays = random_rays(rng, random_count, {}, 10.0f);
   const int aimed = std::min<int>(static_cast<int>(mesh.triangles.size()), 400);
   for (int k = 0; k < aimed; ++k) {
     const auto& t = mesh.triangles[(k * 7919) % mesh.triangles.size()];
@@ -103,45 +70,14 @@ std::vector<RayF> rays_for(const Mesh& mesh, int random_count, unsigned seed) {
       rays.push_back({{-4.0f, u + 1.0f, v}, {0.0f, 1.0f, 0.0f}}); // in the face x = -4
       rays.push_back({{-9.0f, v * 0.375f, u}, {1.0f, 0.0f, 0.0f}});
     }
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  rays.push_back({{nan, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}});
-  rays.push_back({{0.0f, 0.0f, -20.0f}, {0.0f, nan, 1.0f}});
-  rays.push_back({{k_inf, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}});
-  rays.push_back({{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, k_inf}});
-  rays.push_back({{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 0.0f}});
-  rays.push_back({{0.0f, 0.0f, -20.0f}, {-0.0f, 0.0f, -0.0f}});
-  rays.push_back({{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 1.0f}, nan, k_inf});
-  rays.push_back({{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 1.0f}, 0.0f, nan});
-  rays.push_back({{1e6f, 0.1f, 0.2f}, {-1.0f, 0.0f, 0.0f}}); // from far away
+  const std::vector<RayF> hostile = hostile_rays();
+  rays.insert(rays.end(), hostile.begin(), hostile.end());
+  rays.push_back({{0.0f, 0.0f, -20.0f}, {-0.0f, 0.0f, -0.0f}}); // no direction, in -0.0s
+  rays.push_back({{1e6f, 0.1f, 0.2f}, {-1.0f, 0.0f, 0.0f}});    // from far away
   return rays;
 }
 
-BuildOptions options_of(SplitMethod method, int leaf) {
-  BuildOptions o;
-  o.method = method;
-  o.max_leaf_size = leaf;
-  return o;
-}
-
-template <class T> bool same_bits(const T& a, const T& b) {
-  return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
 std::uint32_t bits_of(float f) { return std::bit_cast<std::uint32_t>(f); }
-
-// The first index where two hit lists differ in any bit, or -1; both must be as long.
-long long first_difference(const std::vector<MeshHit>& a, const std::vector<MeshHit>& b) {
-  if (a.size() != b.size()) return 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (!same_bits(a[i], b[i])) return static_cast<long long>(i);
-  return -1;
-}
-
-int count_hits(const std::vector<MeshHit>& hits) {
-  int n = 0;
-  for (const MeshHit& h : hits) n += h.triangle >= 0 ? 1 : 0;
-  return n;
-}
 
 std::vector<MeshHit> trace_cpu(MemoryPath path, Query query, const ch07::Bvh& bvh,
                                const PackedBvh& packed, const std::vector<RayF>& rays) {
@@ -338,8 +274,7 @@ TEST_CASE("every CPU tree type gives chapter 07's hits bit for bit", "[ch08]") {
           CAPTURE(scene.triangles.size(), ch07::to_string(method), leaf,
                   ch07::to_string(query));
           // Chapter 07's own batch: the reference.
-          std::vector<MeshHit> reference(rays.size());
-          ch07::trace_rays_cpu(query, k_watertight, bvh.view(), rays, reference);
+          const std::vector<MeshHit> reference = reference_hits(query, bvh, rays);
           const std::vector<MeshHit> global =
               trace_cpu(MemoryPath::global, query, bvh, packed, rays);
           const std::vector<MeshHit> records_hits =
@@ -519,12 +454,8 @@ TEST_CASE("a texture object with no texels is refused before the GPU is asked", 
 }
 
 TEST_CASE("the shaded frame through the kept path is chapter 07's frame (CPU)", "[ch08]") {
-  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
-  const ch07::Bvh bvh = build_bvh(scene.mesh, {});
+  const auto [scene, bvh, extent, camera] = shaded_tree_case(2, {96, 64});
   const PackedBvh packed = pack_bvh(bvh);
-  const Extent extent{96, 64};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
   for (const bool smooth : {false, true}) {
     CAPTURE(smooth);
     const unsigned features = ch06::features_used(scene, smooth, true);
@@ -536,18 +467,14 @@ TEST_CASE("the shaded frame through the kept path is chapter 07's frame (CPU)", 
     render_kept_shaded(Backend::cpu, features, ch07::with_bvh(view, host_kept_view(packed)),
                        camera, extent, got.data(), got_records.data());
     CHECK(count_differing_pixels(want, got) == 0);
-    int differing_records = 0, hits = 0;
+    CHECK(records_differing(want_records, got_records) == 0);
+    int hits = 0;
     long long shadow_rays = 0, shadowed = 0;
-    for (std::size_t i = 0; i < want_records.size(); ++i) {
-      const auto &a = want_records[i], &b = got_records[i];
-      if (a.triangle != b.triangle || a.shadow_rays != b.shadow_rays ||
-          a.shadowed_facing != b.shadowed_facing || a.nan != b.nan)
-        ++differing_records;
-      hits += a.triangle >= 0 ? 1 : 0;
-      shadow_rays += a.shadow_rays;
-      shadowed += a.shadowed_facing;
+    for (const ch06::ShadedPixelRecord& r : want_records) {
+      hits += r.triangle >= 0 ? 1 : 0;
+      shadow_rays += r.shadow_rays;
+      shadowed += r.shadowed_facing;
     }
-    CHECK(differing_records == 0);
     CHECK(hits > 1000);
     CHECK(shadow_rays > 1000); // the any-hit query is exercised by the shadow rays
     CHECK(shadowed > 0);       // and some of them do find a blocker

@@ -4,7 +4,6 @@
 // memory, give the CPU's hits of the protocol's camera rays; texture objects are never leaked
 // (moves, exceptions, thousands made and destroyed); and the shaded frame through the kept
 // path is chapter 07's frame.
-#include <cstring>
 #include <limits>
 #include <random>
 #include <span>
@@ -12,6 +11,10 @@
 #include <vector>
 
 #include "rt_catch.h"
+
+#include "06_lambertian_shading/shading_cases.h"
+#include "07_bvh/bvh_cases.h"
+#include "memory_cases.h"
 
 #include "bvh_build.h"
 #include "bvh_render.h"
@@ -31,33 +34,19 @@
 
 using namespace rt;
 using namespace rt::ch08;
+using namespace rt::testing;
 using ch04::Mesh;
 using ch04::MeshHit;
 using ch07::build_bvh;
-using ch07::BuildOptions;
 using ch07::Query;
 using ch07::SplitMethod;
-using rt::testing::contains;
 
 namespace {
 
-constexpr ch04::TriangleVariant k_watertight = ch04::TriangleVariant::watertight;
-
 // A closed sphere over a flat grid box (faces on slab planes), and a soup of small triangles.
 Mesh scene_for_tests(unsigned seed) {
-  Mesh mesh = ch04::make_icosphere(4, {0.5, 0.0, -0.5}, 1.5);
-  ch04::append_mesh(mesh, ch04::make_box({-3.0, -2.0, -3.0}, {3.0, -1.5, 3.0}, 8));
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> where(-3.5f, 3.5f), unit(-1.0f, 1.0f);
-  std::uniform_real_distribution<float> size(0.01f, 0.4f);
-  for (int i = 0; i < 2000; ++i) {
-    const Vec3f c{where(rng), where(rng), where(rng)};
-    const float s = size(rng);
-    const int base = static_cast<int>(mesh.vertices.size());
-    for (int k = 0; k < 3; ++k)
-      mesh.vertices.push_back(c + Vec3f{unit(rng), unit(rng), unit(rng)} * s);
-    mesh.triangles.push_back({base, base + 1, base + 2});
-  }
+  Mesh mesh = sphere_over_box();
+  ch04::append_mesh(mesh, random_soup(2000, seed, SoupLayout{{}, 3.5f, 0.01f, 0.4f}));
   return mesh;
 }
 
@@ -66,14 +55,7 @@ Mesh scene_for_tests(unsigned seed) {
 std::vector<RayF> rays_for_tests(const Mesh& mesh, int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  std::vector<RayF> rays;
-  for (int i = 0; i < count; ++i) {
-    const Vec3f o{4.0f * unit(rng), 4.0f * unit(rng), 4.0f * unit(rng)};
-    RayF ray{o, Vec3f{unit(rng), unit(rng), unit(rng)} * 0.5f - o * 0.25f};
-    if (i % 5 == 0) ray.tmax = 2.0f + unit(rng);
-    if (i % 7 == 0) ray.tmin = 0.5f;
-    rays.push_back(ray);
-  }
+  std::vector<RayF> rays = rays_towards_origin(rng, count, Intervals::some_finite);
   for (std::size_t k = 0; k < mesh.triangles.size(); k += 3) {
     const auto& t = mesh.triangles[k];
     const Vec3f o{6.0f * unit(rng), 6.0f * unit(rng), 6.0f * unit(rng)};
@@ -86,45 +68,10 @@ std::vector<RayF> rays_for_tests(const Mesh& mesh, int count, unsigned seed) {
     rays.push_back({{u, 5.0f, u}, {-0.0f, -1.0f, 0.0f}});     // straight down onto it
     rays.push_back({{-3.0f, -1.5f, u}, {1.0f, 0.0f, 0.0f}});  // along an edge's planes
   }
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const float inf = std::numeric_limits<float>::infinity();
-  rays.push_back({{nan, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}});
-  rays.push_back({{0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, inf}});
-  rays.push_back({{inf, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}});
-  rays.push_back({{0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}});
-  rays.push_back({{0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, -1.0f}, nan, inf});
-  rays.push_back({{0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, nan});
+  const std::vector<RayF> hostile = hostile_rays({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, -1.0f});
+  rays.insert(rays.end(), hostile.begin(), hostile.end());
   rays.push_back({{1e6f, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}}); // from far away
   return rays;
-}
-
-BuildOptions options_of(SplitMethod method, int leaf) {
-  BuildOptions o;
-  o.method = method;
-  o.max_leaf_size = leaf;
-  return o;
-}
-
-// The first index where two hit lists differ in any bit (t and triangle), or -1.
-long long first_difference(const std::vector<MeshHit>& a, const std::vector<MeshHit>& b) {
-  if (a.size() != b.size()) return 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::memcmp(&a[i], &b[i], sizeof(MeshHit)) != 0) return static_cast<long long>(i);
-  return -1;
-}
-
-int count_hits(const std::vector<MeshHit>& hits) {
-  int n = 0;
-  for (const MeshHit& h : hits) n += h.triangle >= 0 ? 1 : 0;
-  return n;
-}
-
-// Chapter 07's CPU traversal: the reference every path must match.
-std::vector<MeshHit> reference_hits(Query query, const ch07::Bvh& bvh,
-                                    const std::vector<RayF>& rays) {
-  std::vector<MeshHit> hits(rays.size());
-  ch07::trace_rays_cpu(query, k_watertight, bvh.view(), rays, hits);
-  return hits;
 }
 
 // The hit buffer is poisoned first: a hit the kernel does not write shows up as a difference.
@@ -223,10 +170,7 @@ TEST_CASE("the empty tree and a single triangle on every GPU path", "[ch08][gpu]
       }
   }
   SECTION("a single triangle: one node, an empty child, the same hits as the CPU") {
-    Mesh one;
-    one.vertices = {{-1.0f, -1.0f, 3.0f}, {1.0f, -1.0f, 3.0f}, {0.0f, 1.0f, 3.0f}};
-    one.triangles = {{0, 1, 2}};
-    const ch07::Bvh bvh = build_bvh(one, {});
+    const ch07::Bvh bvh = build_bvh(single_triangle(), {});
     REQUIRE(bvh.nodes.size() == 1);
     const PackedBvh packed = pack_bvh(bvh);
     const DeviceTrees trees(bvh, packed, true);
@@ -435,13 +379,9 @@ TEST_CASE("every path's traversal kernel has a register count", "[ch08][gpu]") {
 
 TEST_CASE("GPU shaded frame through the kept path is chapter 07's frame", "[ch08][gpu]") {
   RT_REQUIRE_GPU();
-  const ch06::ShadedScene scene = ch06::make_default_scene(3, 1.0, {});
-  const ch07::Bvh bvh = build_bvh(scene.mesh, {});
+  const auto [scene, bvh, extent, camera] = shaded_tree_case(3, {160, 90});
   const PackedBvh packed = pack_bvh(bvh);
   const DeviceTrees trees(bvh, packed, false);
-  const Extent extent{160, 90};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
   const std::size_t pixels = static_cast<std::size_t>(extent.pixel_count());
   for (const bool smooth : {false, true}) {
     CAPTURE(smooth);
@@ -460,16 +400,13 @@ TEST_CASE("GPU shaded frame through the kept path is chapter 07's frame", "[ch08
     CHECK(count_differing_pixels(kept, d_bvh.to_host()) == 0);
     const std::vector<ch06::ShadedPixelRecord> a = d_kept_records.to_host();
     const std::vector<ch06::ShadedPixelRecord> b = d_bvh_records.to_host();
-    int differing = 0, hits = 0;
+    CHECK(records_differing(a, b) == 0);
+    int hits = 0;
     long long shadow_rays = 0;
-    for (std::size_t i = 0; i < pixels; ++i) {
-      if (a[i].triangle != b[i].triangle || a[i].shadow_rays != b[i].shadow_rays ||
-          a[i].shadowed_facing != b[i].shadowed_facing || a[i].nan != b[i].nan)
-        ++differing;
-      hits += a[i].triangle >= 0 ? 1 : 0;
-      shadow_rays += a[i].shadow_rays;
+    for (const ch06::ShadedPixelRecord& r : a) {
+      hits += r.triangle >= 0 ? 1 : 0;
+      shadow_rays += r.shadow_rays;
     }
-    CHECK(differing == 0);
     CHECK(hits > 3000);
     CHECK(shadow_rays > 3000);
     // And the kept path on the CPU draws the same frame.

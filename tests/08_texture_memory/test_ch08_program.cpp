@@ -14,13 +14,9 @@
 
 namespace {
 
-using rt::testing::line_count;
 using rt::testing::ProgramRun;
 
-ProgramRun run_program(const std::string& arguments) {
-  return rt::testing::run_command(std::string(RT_CH08_PROGRAM) + " --headless --backend cpu " +
-                                  arguments);
-}
+const rt::testing::HeadlessCpuProgram run_program(RT_CH08_PROGRAM);
 
 const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
 
@@ -79,12 +75,7 @@ TEST_CASE("program: the benchmark mode on a small scene", "[ch08]") {
 
 TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch08]") {
   const std::filesystem::path folder = rt::testing::temp_folder("rt_ch08");
-  struct Case {
-    std::string arguments;
-    int exit_code;
-    const char* says;
-  };
-  const Case cases[] = {
+  const rt::testing::RefusedInput cases[] = {
       {"--memory texture --scene " + k_room, 2, "needs the GPU"},
       {"--memory global,ldg --scene " + k_room, 2, "'ldg' needs the GPU"},
       {"--benchmark --memory float4_ldg " + k_room, 2, "needs the GPU"},
@@ -96,12 +87,5 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch08]
       {k_room, 2, "--benchmark"},
       {"--image-only --output ''", 2, "--output"},
   };
-  for (const Case& c : cases) {
-    CAPTURE(c.arguments);
-    const ProgramRun run = run_program(c.arguments);
-    INFO(run.output);
-    CHECK(run.exit_code == c.exit_code);
-    CHECK(line_count(run.output) == 1);
-    CHECK_THAT(run.output, rt::testing::contains(c.says));
-  }
+  rt::testing::check_refused(run_program, cases);
 }

@@ -1,6 +1,8 @@
 // See run_program.h.
 #include "run_program.h"
 
+#include "rt_catch.h"
+
 #include <cstdio>
 #include <stdexcept>
 
@@ -18,6 +20,21 @@ ProgramRun run_command(const std::string& command) {
   const int status = pclose(pipe);
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
+}
+
+ProgramRun HeadlessCpuProgram::operator()(const std::string& arguments) const {
+  return run_command(path_ + " --headless --backend cpu " + arguments);
+}
+
+void check_refused(const HeadlessCpuProgram& program, std::span<const RefusedInput> cases) {
+  for (const RefusedInput& c : cases) {
+    CAPTURE(c.arguments);
+    const ProgramRun run = program(c.arguments);
+    INFO(run.output);
+    CHECK(run.exit_code == c.exit_code);
+    CHECK(line_count(run.output) == 1);
+    CHECK_THAT(run.output, contains(c.says));
+  }
 }
 
 int line_count(const std::string& text) {
