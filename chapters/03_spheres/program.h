@@ -34,6 +34,9 @@
 //     return run_program_main(app, argc, argv, options, [&] { return run(options); });
 //   }
 //
+// A render that needs the scene in device memory makes that copy on its first GPU frame
+// (chapter 04's main.cpp), so a run that renders no frame never makes it.
+//
 // A program with more modes (chapter 07's --benchmark and ray files) picks them in run()
 // before this flow. One whose headless run is its own (it prints more after the report, or
 // writes the image last) composes the steps instead: show_in_window(), write_image_only(),

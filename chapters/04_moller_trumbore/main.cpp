@@ -61,15 +61,15 @@ int run(const ChapterOptions& options) {
       .camera = camera,
       .render =
           [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
-            const auto view = ch03::make_camera<float>(spec, extent);
+            const auto frame_camera = ch03::make_camera<float>(spec, extent);
             if (b == Backend::cpu) {
               render_triangles(b, options.image_variant, host_view(scene.mesh),
-                               scene.object.data(), view, extent, pixels);
+                               scene.object.data(), frame_camera, extent, pixels);
               return;
             }
             if (!d_scene) d_scene.emplace(scene);
-            render_triangles(b, options.image_variant, d_scene->view(), d_scene->object(), view,
-                             extent, pixels);
+            render_triangles(b, options.image_variant, d_scene->view(), d_scene->object(),
+                             frame_camera, extent, pixels);
           },
       .window_row =
           [&](const WindowResult& shown) {

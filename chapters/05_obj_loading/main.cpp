@@ -90,19 +90,19 @@ int run(ChapterOptions options) {
       .camera = camera,
       .render =
           [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
-            const auto view = ch03::make_camera<float>(spec, extent);
+            const auto frame_camera = ch03::make_camera<float>(spec, extent);
             const PixelSample whole{extent, 1};
             if (b == Backend::cpu) {
               render_model(b, options.image_variant, ch04::host_view(scene.mesh),
-                           scene.object.data(), view, whole, pixels);
+                           scene.object.data(), frame_camera, whole, pixels);
               return;
             }
             if (!d_scene) {
               check_device_memory(device_bytes_needed(scene, extent), options.scene);
               d_scene.emplace(scene);
             }
-            render_model(b, options.image_variant, d_scene->view(), d_scene->object(), view,
-                         whole, pixels);
+            render_model(b, options.image_variant, d_scene->view(), d_scene->object(),
+                         frame_camera, whole, pixels);
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {
