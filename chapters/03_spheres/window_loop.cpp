@@ -10,6 +10,7 @@
 #include "frames.h"
 #include "orbit_controls.h"
 #include "rt/cuda_check.h"
+#include "rt/program_output.h"
 #include "rt/report.h"
 
 namespace rt::ch03 {
@@ -37,25 +38,12 @@ struct FrameTarget {
 } // namespace
 
 void add_display_options(CLI::App& app, DisplayChoice& choice) {
-  auto* headless =
-      app.add_flag("--headless", choice.headless, "Render without a window: report and image");
-  app.add_flag("--window", choice.window, "Open the window (an error if there is no display)")
-      ->excludes(headless);
+  ch02::add_display_flags(app, choice, "Render without a window: report and image");
+  const std::string program_footer = app.get_footer();
   app.footer("Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E move, "
              "R resets the camera, S saves a screenshot, V toggles vsync, Esc quits. With "
-             "--frames N the window shows N frames, writes --output and closes.");
-}
-
-std::unique_ptr<ch02::Viewer> open_viewer(const DisplayChoice& choice, Extent size,
-                                          const std::string& title) {
-  if (choice.headless) return nullptr;
-  try {
-    return std::make_unique<ch02::Viewer>(size, title, true);
-  } catch (const ch02::DisplayError& e) {
-    if (choice.window) throw;
-    std::cout << "notice: " << e.what() << "; rendering headless\n";
-    return nullptr;
-  }
+             "--frames N the window shows N frames, writes --output and closes." +
+             (program_footer.empty() ? "" : " " + program_footer));
 }
 
 WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec& start,
@@ -102,10 +90,8 @@ WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec&
     frame_ms.push_back(std::chrono::duration<double, std::milli>(stop - start_time).count());
     ++frame;
     if (input.save) {
-      const std::string name =
-          settings.screenshot_prefix + "_" + std::to_string(frame - 1) + ".png";
-      write_image(name, viewer.read_screen());
-      std::cout << "wrote " << name << "\n";
+      write_output_image(settings.screenshot_prefix + "_" + std::to_string(frame - 1) + ".png",
+                         viewer.read_screen());
     }
     if (scripted && frame == settings.scripted_frames) break;
     if (stop - last_title > std::chrono::milliseconds(500)) {

@@ -5,12 +5,12 @@
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "camera_spec.h"
+#include "display_choice.h"
 #include "rt/backend.h"
 #include "rt/image.h"
 #include "rt/timer.h"
@@ -34,26 +34,20 @@ struct WindowResult {
   Image last_screen; // what the window showed last
   CameraSpec camera; // the camera of that frame
   int frames = 0;
+
+  Extent extent() const { return {last_screen.width, last_screen.height}; }
 };
 
-// Window or not: --window insists on one, --headless never opens one, and by default a window
-// opens when there is a display.
-struct DisplayChoice {
-  bool headless = false;
-  bool window = false;
-};
+// Window or not (chapter 02's choice): --headless, --window, or a window when there is a
+// display.
+using ch02::DisplayChoice;
+using ch02::k_headless_mode;
+using ch02::k_window_mode;
+using ch02::open_viewer;
 
-// Adds --headless and --window, and a footer that lists the window's controls.
+// Adds --headless and --window, and a footer that lists the window's controls (before any
+// footer the program has set).
 void add_display_options(CLI::App& app, DisplayChoice& choice);
-
-// The viewer the choice asks for, or null for headless: without a display it prints a notice
-// and returns null, unless --window insisted (then the DisplayError goes on).
-std::unique_ptr<ch02::Viewer> open_viewer(const DisplayChoice& choice, Extent size,
-                                          const std::string& title);
-
-inline constexpr const char* k_window_mode =
-    "window (frame time: render + upload + draw, glFinish)";
-inline constexpr const char* k_headless_mode = "headless (GPU: CUDA events; CPU: steady clock)";
 
 WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec& start,
                         const WindowSettings& settings, const FrameRenderer& render);

@@ -82,4 +82,12 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
   }
 }
 
+int run_main(CLI::App& app, int argc, char** argv, const CommonOptions& options,
+             const std::function<int()>& body) {
+  return run_main(app, argc, argv, [&] {
+    if (!options.output.empty()) check_image_path(options.output);
+    return body();
+  });
+}
+
 } // namespace rt

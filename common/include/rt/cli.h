@@ -40,5 +40,9 @@ void add_common_options(CLI::App& app, CommonOptions& options);
 // Parses the command line and runs `body`. Prints "<program>: error: <message>" on any error
 // and returns the exit code: 0 success, 1 runtime error, 2 bad usage.
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+// The same for a chapter's program: once parsed, an --output that names no .png or .pfm file
+// fails before any work is done.
+int run_main(CLI::App& app, int argc, char** argv, const CommonOptions& options,
+             const std::function<int()>& body);
 
 } // namespace rt
