@@ -41,7 +41,7 @@ ReportRow error_row(std::string variant, Backend backend, const Timing& timing, 
           {{"pixels_differing", double(differing)}}};
 }
 
-// Headless: frames into memory, timed per BENCHMARK.md; the last one is written out.
+// Headless: frames into memory, timed as book appendix A says; the last one is written out.
 void run_headless(const ChapterOptions& options, Backend backend, Report& report) {
   const Extent extent = options.common.extent();
   const int frames = options.common.frames > 0 ? options.common.frames : k_default_frames;

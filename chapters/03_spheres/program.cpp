@@ -28,6 +28,9 @@ int run_program_main(CLI::App& app, int argc, char** argv, ProgramOptions& optio
     options.fov_given = given("--fov");
     options.width_given = given("--width");
     options.height_given = given("--height");
+    // --image-only measures nothing, so there would be no report to write.
+    if (options.image_only && !options.common.json.empty())
+      throw UsageError("--json writes the report, and --image-only makes none: give one");
     return body();
   });
 }

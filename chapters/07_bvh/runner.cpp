@@ -425,6 +425,24 @@ std::vector<SceneResult> run_benchmark(const std::vector<std::string>& scenes,
   return results;
 }
 
+std::vector<MeshHit> trace_with(const Tracer& tracer, Backend backend, Query query,
+                                std::span<const RayF> rays) {
+  if (!tracer.runs_on(backend))
+    throw UsageError("the tracer '" + tracer.name + "' does not run on the " +
+                     to_string(backend));
+  std::vector<MeshHit> hits(rays.size());
+  if (rays.empty()) return hits;
+  if (backend == Backend::gpu) {
+    const DeviceBuffer<RayF> d_rays{rays};
+    DeviceBuffer<MeshHit> d_hits(rays.size());
+    tracer.trace_gpu(query, d_rays.data(), int(rays.size()), d_hits.data());
+    d_hits.download(hits);
+  } else {
+    tracer.trace_cpu(query, rays, hits);
+  }
+  return hits;
+}
+
 void add_runner_context(Report& report, const RunnerOptions& o) {
   report.add_context("device", describe_backend(o.backend));
   report.add_context("image",

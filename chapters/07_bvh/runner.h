@@ -94,6 +94,11 @@ std::string tracer_tables(const std::vector<SceneResult>& results, const std::st
                           const RunnerOptions& options, const std::string& device,
                           const Anchors& anchors);
 
+// Host rays in, host hits out, through one tracer on the resolved backend (uploads and
+// downloads on the GPU): for ray files and tests, not for timing.
+std::vector<MeshHit> trace_with(const Tracer& tracer, Backend backend, Query query,
+                                std::span<const RayF> rays);
+
 // The runner's context lines for a report: device, image, tree, triangle test, timing.
 void add_runner_context(Report& report, const RunnerOptions& options);
 

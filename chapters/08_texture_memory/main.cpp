@@ -4,10 +4,12 @@
 // loads, read-only loads, 16-byte records, texture objects), each timed, each checked bit for
 // bit against chapter 07's hits and on a sample against a float64 reference; then it renders
 // the shaded image through the kept path. Other modes:
-//   --window                 the interactive viewer, shaded through the kept path
-//   --benchmark [SCENE...]   every path on the benchmark set (default) or the scenes given
+//   --window                       the interactive viewer, shaded through the kept path
+//   --benchmark [SCENE...]         every path on the benchmark set (default) or the scenes
+//   given
+//   --rays FILE --hits FILE        a ray file through the first path of --memory
+//   --dump-hits FILE --ray-type T  the protocol's hits of one view through that path
 #include <iostream>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,17 +17,13 @@
 #include "bvh_build.h"
 #include "camera_cli.h"
 #include "kept_render.h"
-#include "memory_trace.h"
 #include "memory_tracers.h"
-#include "obj_loader.h"
-#include "rt/backend_image.h"
-#include "rt/cli.h"
-#include "rt/report.h"
+#include "program.h"
+#include "query_modes.h"
+#include "rt/program_output.h"
 #include "runner.h"
 #include "shaded_render.h"
 #include "shaded_scene.h"
-#include "viewer.h"
-#include "window_loop.h"
 
 namespace {
 
@@ -33,31 +31,16 @@ using namespace rt;
 using namespace rt::ch08;
 using ch06::ShadedScene;
 
-struct ChapterOptions {
-  CommonOptions common;
-  ch03::CameraSpec camera;
-  bool eye_given = false, target_given = false, size_given = false;
-  std::string scene_path = RT_ASSETS_DIR "/torus_knot_100k.obj.gz";
+struct ChapterOptions : ch03::ProgramOptions {
+  ch07::QueryOptions query;
   std::vector<MemoryPath> paths{std::begin(k_all_paths), std::end(k_all_paths)};
   bool paths_given = false;
   long long reference_rays = 1024;
   bool skip_cpu = false;
-  bool image_only = false;
-  ch03::DisplayChoice display;
-  bool benchmark = false;
-  std::vector<std::string> benchmark_scenes;
-  std::string models_dir = RT_MODELS_DIR;
 };
-
-// Paths named with --memory must exist where the run is (`all` takes what exists there).
-void check_paths(const ChapterOptions& options, Backend backend) {
-  if (options.paths_given)
-    for (const MemoryPath path : options.paths) check_runs_on(path, backend);
-}
 
 ch07::RunnerOptions runner_options(const ChapterOptions& options, Backend backend,
                                    Extent extent) {
-  check_paths(options, backend);
   ch07::RunnerOptions runner;
   runner.extent = extent;
   runner.backend = backend;
@@ -76,145 +59,111 @@ void add_context(Report& report, const ch07::RunnerOptions& runner,
                                       " (what the image and later chapters use)");
 }
 
-// The report's rows, the tables of the first backend's figures, and the verdict.
-void finish(const ChapterOptions& options, const Report& report,
-            const std::vector<ch07::SceneResult>& results, const ch07::RunnerOptions& runner) {
-  report.print(std::cout);
+// The tables of the first backend's figures, and the verdict on every backend's.
+void print_tables(const std::vector<ch07::SceneResult>& results,
+                  const ch07::RunnerOptions& runner, long long problems) {
   std::cout << ch07::tracer_tables(results, to_string(MemoryPath::global), runner,
                                    describe_backend(runner.backend),
                                    ch07::course_anchors(std::cout));
-  if (!options.common.json.empty()) report.write_json(options.common.json);
-  for (const ch07::SceneResult& r : results)
-    if (r.problems > 0)
-      throw Error("a memory path changed the hits: they must be chapter 07's");
+  if (problems > 0) throw Error("a memory path changed the hits: they must be chapter 07's");
 }
 
 int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
-  const std::vector<std::string> scenes = options.benchmark_scenes.empty()
-                                              ? ch07::benchmark_set(options.models_dir)
-                                              : options.benchmark_scenes;
   const ch07::RunnerOptions runner = runner_options(
-      options, backend, options.size_given ? options.common.extent() : Extent{1920, 1080});
+      options, backend, options.size_given() ? options.common.extent() : Extent{1920, 1080});
   Report report("Chapter 08: memory paths on the benchmark protocol", "Mrays/s",
                 "chapter 07's hits, bit for bit");
   add_context(report, runner, options.paths);
   const std::vector<ch07::SceneResult> results =
-      ch07::run_benchmark(scenes, {memory_path_tracers(options.paths, true)}, runner, report);
-  finish(options, report, results, runner);
+      ch07::run_benchmark(ch07::benchmark_scenes(options.query),
+                          {memory_path_tracers(options.paths, true)}, runner, report);
+  finish_report(report, options.common);
+  long long problems = 0;
+  for (const ch07::SceneResult& r : results) problems += r.problems;
+  print_tables(results, runner, problems);
   return 0;
-}
-
-// The image: chapter 06's shading, smooth normals and shadows, through the kept path.
-template <class Render>
-void with_kept_scene(Backend backend, const ShadedScene& scene, const Bvh& bvh,
-                     const PackedBvh& packed, Render render) {
-  const unsigned features = ch06::features_used(scene, true, true);
-  if (backend == Backend::gpu) {
-    const ch06::DeviceShadedScene d_scene(scene, features);
-    const DeviceTrees trees(bvh, packed, false);
-    render(features, ch07::with_bvh(d_scene.view(), trees.kept()));
-  } else {
-    render(features, ch07::with_bvh(ch06::host_view(scene, features), host_kept_view(packed)));
-  }
-}
-
-void render_image(const ChapterOptions& options, Backend backend, const ShadedScene& scene,
-                  const ch03::CameraSpec& spec) {
-  const Bvh bvh = ch07::build_bvh(scene.mesh, {});
-  const PackedBvh packed = pack_bvh(bvh);
-  const Extent extent = options.common.extent();
-  const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
-  const Image image = render_into_image(backend, extent, [&](Rgba8* pixels) {
-    with_kept_scene(backend, scene, bvh, packed,
-                    [&](unsigned features, const KeptSceneView& view) {
-                      render_kept_shaded(backend, features, view, camera, extent, pixels);
-                    });
-  });
-  write_image(options.common.output, image);
-  std::cout << "wrote " << options.common.output << "\n";
-}
-
-void run_window(const ChapterOptions& options, Backend backend, ch02::Viewer& viewer,
-                const ShadedScene& scene, const ch03::CameraSpec& start, Report& report) {
-  const Bvh bvh = ch07::build_bvh(scene.mesh, {});
-  const PackedBvh packed = pack_bvh(bvh);
-  with_kept_scene(
-      backend, scene, bvh, packed, [&](unsigned features, const KeptSceneView& view) {
-        const ch03::WindowSettings window{"ch08: memory spaces", options.common.frames,
-                                          "ch08_screenshot"};
-        const ch03::WindowResult shown = ch03::run_window(
-            viewer, backend, start, window,
-            [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
-              render_kept_shaded(b, features, view, ch03::make_camera<float>(spec, extent),
-                                 extent, pixels);
-            });
-        if (shown.frames == 0) return;
-        report.add_row(
-            {"shaded frame, " + std::string(to_string(k_kept_path)) + ", window (" +
-                 shown.path + ")",
-             to_string(backend),
-             shown.frame_time.median_ms,
-             double(shown.last_screen.width) * shown.last_screen.height /
-                 (shown.frame_time.median_ms * 1e3),
-             format_fixed(1000.0 / shown.frame_time.median_ms, 1) + " frames/s on screen",
-             {{"fps", 1000.0 / shown.frame_time.median_ms}}});
-        if (options.common.frames > 0 && !options.common.output.empty()) {
-          write_image(options.common.output, shown.last_screen);
-          std::cout << "wrote " << options.common.output << " (screenshot)\n";
-        }
-      });
 }
 
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
-  if (options.benchmark) return run_benchmark_mode(options, backend);
+  // Paths named with --memory must exist where the run is (`all` takes what exists there).
+  if (options.paths_given)
+    for (const MemoryPath path : options.paths) check_runs_on(path, backend);
+  if (options.query.benchmark) return run_benchmark_mode(options, backend);
+  if (options.query.query())
+    return ch07::run_query(options.query, options, backend, {},
+                           ch04::TriangleVariant::watertight,
+                           memory_path_tracers({options.paths.front()}, false));
 
   ch03::CameraSpec camera = options.camera;
-  const ShadedScene scene = ch06::load_framed_obj(options.scene_path, camera, options.eye_given,
-                                                  options.target_given);
+  const ShadedScene scene = ch06::load_framed_obj(options.query.scene_path, camera,
+                                                  options.eye_given, options.target_given);
   ch03::validate_camera(camera);
+  Report report = start_report(
+      "Chapter 08: memory spaces for the traversal", "Mrays/s",
+      "chapter 07's hits bit for bit; float64 brute force (CPU) on sampled rays", backend);
 
-  const std::unique_ptr<ch02::Viewer> viewer =
-      ch03::open_viewer(options.display, options.common.extent(), "ch08: memory spaces");
-  Report report("Chapter 08: memory spaces for the traversal", "Mrays/s",
-                "chapter 07's hits bit for bit; float64 brute force (CPU) on sampled rays");
-  if (viewer) {
-    report.add_context("device", describe_backend(backend));
-    report.add_context("mode", ch03::k_window_mode);
-    run_window(options, backend, *viewer, scene, camera, report);
-  } else {
-    if (options.image_only) {
-      if (options.common.output.empty()) throw UsageError("--image-only needs --output");
-      render_image(options, backend, scene, camera);
-      return 0;
-    }
-    ch07::RunnerOptions runner = runner_options(options, backend, options.common.extent());
-    runner.reference_rays = options.reference_rays;
-    add_context(report, runner, options.paths);
-    report.add_context("scene",
-                       options.scene_path + ", " +
-                           group_digits(static_cast<long long>(scene.mesh.triangles.size())) +
-                           " triangles");
-    report.add_context("mode", ch03::k_headless_mode);
-    std::vector<ch07::SceneResult> results;
-    for (const Backend b : report_backends(backend, options.skip_cpu)) {
-      runner.backend = b;
-      const ch07::SceneResult result = ch07::run_scene(
-          {options.scene_path}, {memory_path_tracers(options.paths, true)}, runner, report);
-      if (results.empty())
-        results.push_back(result);
-      else
-        results.front().problems += result.problems;
-    }
-    runner.backend = backend;
-    finish(options, report, results, runner);
-    if (!options.common.output.empty()) render_image(options, backend, scene, camera);
-    return 0;
-  }
-  report.print(std::cout);
-  if (!options.common.json.empty()) report.write_json(options.common.json);
-  return 0;
+  const unsigned features = ch06::features_used(scene, true, true);
+  std::optional<ch07::Bvh> bvh; // built for the first frame
+  std::optional<PackedBvh> packed;
+  std::optional<ch06::DeviceShadedScene> d_scene;
+  std::optional<DeviceTrees> d_trees; // uploaded for the first GPU frame
+  ch07::RunnerOptions runner = runner_options(options, backend, options.common.extent());
+  runner.reference_rays = options.reference_rays;
+  std::vector<ch07::SceneResult> results;
+  long long problems = 0;
+  const ch03::ProgramParts parts{
+      .chapter = "ch08",
+      .window_title = "memory spaces",
+      .camera = camera,
+      // Chapter 06's shading, smooth normals and shadows, through the kept path.
+      .render =
+          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+            if (!bvh) {
+              bvh.emplace(ch07::build_bvh(scene.mesh, {}));
+              packed.emplace(pack_bvh(*bvh));
+            }
+            if (b == Backend::gpu && !d_scene) {
+              d_scene.emplace(scene, features);
+              d_trees.emplace(*bvh, *packed, false);
+            }
+            const KeptSceneView view =
+                d_scene
+                    ? ch07::with_bvh(d_scene->view(), d_trees->kept())
+                    : ch07::with_bvh(ch06::host_view(scene, features), host_kept_view(*packed));
+            render_kept_shaded(b, features, view, ch03::make_camera<float>(spec, extent),
+                               extent, pixels);
+          },
+      .window_row =
+          [&](const ch03::WindowResult& shown) {
+            ReportRow row = ch03::window_row(
+                "shaded frame, " + std::string(to_string(k_kept_path)), backend, shown);
+            row.error =
+                format_fixed(1000.0 / shown.frame_time.median_ms, 1) + " frames/s on screen";
+            row.metrics = {{"fps", 1000.0 / shown.frame_time.median_ms}};
+            return row;
+          },
+      .measure =
+          [&](Report& rows) {
+            add_context(rows, runner, options.paths);
+            rows.add_context("scene", options.query.scene_path + ", " +
+                                          group_digits(std::ssize(scene.mesh.triangles)) +
+                                          " triangles");
+            for (const Backend b : report_backends(backend, options.skip_cpu)) {
+              runner.backend = b;
+              const ch07::SceneResult result =
+                  ch07::run_scene({options.query.scene_path},
+                                  {memory_path_tracers(options.paths, true)}, runner, rows);
+              if (results.empty()) results.push_back(result);
+              problems += result.problems;
+            }
+            runner.backend = backend;
+          },
+  };
+  const int code = ch03::run_window_or_headless(options, backend, parts, report);
+  if (!results.empty()) print_tables(results, runner, problems);
+  return code;
 }
 
 } // namespace
@@ -227,11 +176,10 @@ int main(int argc, char** argv) {
   options.common.width = 1280;
   options.common.height = 720;
   options.common.output = "ch08_texture_memory.png";
-  add_common_options(app, options.common);
-  ch03::add_camera_options(app, options.camera);
-  app.add_option("--scene", options.scene_path, "OBJ file to trace (.obj or gzip'd)")
-      ->check(CLI::ExistingFile)
-      ->capture_default_str();
+  options.query.scene_path = RT_ASSETS_DIR "/torus_knot_100k.obj.gz";
+  options.query.models_dir = RT_MODELS_DIR;
+  ch03::add_program_options(app, options);
+  ch07::add_query_options(app, options.query, "every memory path's rays");
   app.add_option_function<std::string>(
          "--memory",
          [&](const std::string& text) {
@@ -239,31 +187,17 @@ int main(int argc, char** argv) {
            options.paths_given = true;
          },
          "Memory paths to measure, comma-separated: global, ldg, float4, float4_ldg, texture, "
-         "or all (the CPU has global and float4)")
+         "or all (the CPU has global and float4); the first one answers --rays and "
+         "--dump-hits")
       ->default_str("all");
   app.add_option("--reference-rays", options.reference_rays,
                  "Rays per ray type the float64 reference traces (every triangle, in double)")
       ->check(CLI::Range(1LL, 1LL << 20))
       ->capture_default_str();
   app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
-  app.add_flag("--image-only", options.image_only,
-               "Headless: write the --output image and skip the measurements");
-  app.add_flag(
-      "--benchmark", options.benchmark,
-      "Every memory path on the SCENE files given, or on the benchmark set in --models");
-  app.add_option("scenes", options.benchmark_scenes, "With --benchmark: OBJ files to measure")
-      ->check(CLI::ExistingFile);
-  app.add_option("--models", options.models_dir, "Where --benchmark finds the benchmark set")
-      ->capture_default_str();
-  ch03::add_display_options(app, options.display);
-  return run_main(app, argc, argv, [&] {
-    options.eye_given = app.get_option("--eye")->count() > 0;
-    options.target_given = app.get_option("--target")->count() > 0;
-    options.size_given =
-        app.get_option("--width")->count() > 0 || app.get_option("--height")->count() > 0;
-    if (!options.benchmark_scenes.empty() && !options.benchmark)
-      throw UsageError("scene files on the command line go with --benchmark (else --scene)");
-    if (!options.common.output.empty()) check_image_path(options.common.output);
+  ch03::add_image_only_option(app, options);
+  return ch03::run_program_main(app, argc, argv, options, [&] {
+    ch07::check_query_options(options.query, app);
     return run(options);
   });
 }

@@ -173,7 +173,7 @@ TEST_CASE("huge sphere seen from close by: stable near root within 1e-6 of float
 
 namespace {
 
-// The benchmark views (shared/BENCHMARK.md) plus one looking straight down the z axis.
+// The benchmark views (book appendix A) plus one looking straight down the z axis.
 struct View {
   Vec3d eye, target;
   double vfov_degrees;

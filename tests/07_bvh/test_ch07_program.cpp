@@ -133,6 +133,12 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch07]
       {"--ray-type shiny --dump-hits " + hits, 2, "ray-type"},
       {"--benchmark --models " + (folder / "nothing").string(), 1, "benchmark set"},
       {k_room, 2, "--benchmark"},
+      // Flags that cannot apply together are refused, not ignored.
+      {"--rays " + nan_rays + " --hits " + hits + " --dump-hits " + hits, 2, "two different"},
+      {"--ray-type ao", 2, "--ray-type goes with --dump-hits"},
+      {"--benchmark --dump-hits " + hits + " " + k_room, 2, "--benchmark measures"},
+      {"--models " + folder.string(), 2, "--models goes with --benchmark"},
+      {"--image-only --json " + hits, 2, "--json"},
       {"--dump-hits " + (folder / "no" / "such" / "dir.bin").string() + " --scene " + k_room +
            " --width 8 --height 8",
        1, "dir.bin"},

@@ -1,0 +1,174 @@
+// Chapter 07: the query flags. See query_modes.h.
+#include "query_modes.h"
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+
+#include "bvh_build.h"
+#include "obj_loader.h"
+#include "ray_io.h"
+#include "rt/error.h"
+#include "rt/report.h"
+
+namespace rt::ch07 {
+namespace {
+
+Query query_for(RayType type) { return type == RayType::ao ? Query::any : Query::closest; }
+
+// The scene's tracer, made as the runner makes it: chapter 07's tree of the mesh, the camera.
+struct QueryScene {
+  ch05::ObjMesh obj;
+  Bvh bvh;
+  PinholeCamera camera;
+  Tracer tracer;
+};
+
+// The view of --dump-hits: the protocol's for the scene, with the camera flags given on top.
+ProtocolView query_view(const QueryOptions& q, const ch03::ProgramOptions& p,
+                        const Aabb& bounds) {
+  ProtocolView view = protocol_view(q.scene_path, bounds);
+  if (p.eye_given || p.target_given || p.fov_given) {
+    if (p.eye_given) view.eye = p.camera.eye.as<float>();
+    if (p.target_given) view.target = p.camera.target.as<float>();
+    if (p.fov_given) view.vfov_degrees = static_cast<float>(p.camera.fov_degrees);
+    view.kind = ViewKind::custom;
+  }
+  return view;
+}
+
+int run_ray_file(const QueryOptions& q, Backend backend, const Tracer& tracer) {
+  const std::vector<RayF> rays = read_ray_file(q.rays_path);
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<MeshHit> hits = trace_with(tracer, backend, Query::closest, rays);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+          .count();
+  write_hit_file(q.hits_path, hits);
+  const auto hit_count =
+      std::count_if(hits.begin(), hits.end(), [](const MeshHit& h) { return h.triangle >= 0; });
+  std::cout << "traced " << group_digits(static_cast<long long>(rays.size())) << " rays on "
+            << describe_backend(backend) << " through " << tracer.name << ": "
+            << group_digits(hit_count) << " hit, " << format_fixed(ms, 1)
+            << " ms with the upload; wrote " << q.hits_path << "\n";
+  return 0;
+}
+
+int run_dump_hits(const QueryOptions& q, Backend backend, const QueryScene& s,
+                  const ProtocolView& view) {
+  const PinholeCamera& camera = s.camera;
+  const std::vector<RayF> rays = camera_rays_cpu(camera);
+  std::vector<MeshHit> hits = trace_with(s.tracer, backend, Query::closest, rays);
+  if (q.ray_type != RayType::primary) {
+    const SecondaryRays secondary = secondary_rays_cpu(q.ray_type, s.obj.geometry, hits, camera,
+                                                       scene_radius(s.bvh.bounds));
+    const std::vector<MeshHit> secondary_hits =
+        trace_with(s.tracer, backend, query_for(q.ray_type), secondary.rays);
+    hits = scatter_to_pixels(secondary_hits, secondary.pixel, camera.width * camera.height);
+  }
+  write_hit_file(q.dump_hits_path, hits);
+  std::cout << "wrote " << q.dump_hits_path << ": " << to_string(q.ray_type) << " hits, "
+            << camera.width << "x" << camera.height << ", view " << to_string(view.kind)
+            << " (eye " << view.eye.x << "," << view.eye.y << "," << view.eye.z << ", target "
+            << view.target.x << "," << view.target.y << "," << view.target.z << ", fov "
+            << view.vfov_degrees << "), through " << s.tracer.name << "\n";
+  return 0;
+}
+
+} // namespace
+
+void add_query_options(CLI::App& app, QueryOptions& q,
+                       const std::string& what_benchmark_measures) {
+  app.add_option("--scene", q.scene_path, "OBJ file to trace (.obj or gzip'd)")
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  app.add_option("--rays", q.rays_path,
+                 "Trace the rays of this file (per ray: origin xyz, direction xyz, tmin, tmax; "
+                 "float32 little-endian)");
+  app.add_option("--hits", q.hits_path,
+                 "With --rays: write the closest hit of each ray here (float32 t, int32 id)");
+  app.add_option("--dump-hits", q.dump_hits_path,
+                 "Write the benchmark protocol's per-pixel hits of --ray-type here");
+  app.add_option_function<std::string>(
+         "--ray-type",
+         [&q](const std::string& text) {
+           q.ray_type = text == "ao"        ? RayType::ao
+                        : text == "diffuse" ? RayType::diffuse
+                                            : RayType::primary;
+           q.ray_type_given = true;
+         },
+         "Rays for --dump-hits: primary, ao or diffuse")
+      ->check(CLI::IsMember({"primary", "ao", "diffuse"}))
+      ->default_str("primary");
+  app.add_flag("--benchmark", q.benchmark,
+               "Run the benchmark protocol on the SCENE files given, or on the benchmark set "
+               "in --models: " +
+                   what_benchmark_measures);
+  app.add_option("scenes", q.benchmark_scenes, "With --benchmark: OBJ files to measure")
+      ->check(CLI::ExistingFile);
+  app.add_option("--models", q.models_dir,
+                 "Where --benchmark finds the benchmark set (tools/get-models.sh fills it)")
+      ->capture_default_str();
+}
+
+void add_build_options(CLI::App& app, BuildOptions& build) {
+  app.add_option_function<std::string>(
+         "--split",
+         [&build](const std::string& text) {
+           build.method = text == "median" ? SplitMethod::median : SplitMethod::sah;
+         },
+         "How the tree is built for the image, the ray files and the benchmark")
+      ->check(CLI::IsMember({"median", "sah"}))
+      ->default_str("sah");
+  app.add_option("--leaf-size", build.max_leaf_size, "Most triangles in a leaf")
+      ->check(CLI::Range(1, k_max_leaf_size))
+      ->capture_default_str();
+  app.add_option("--bins", build.bins, "SAH bins per axis")
+      ->check(CLI::Range(2, 256))
+      ->capture_default_str();
+}
+
+void check_query_options(const QueryOptions& q, const CLI::App& app) {
+  if (!q.benchmark_scenes.empty() && !q.benchmark)
+    throw UsageError("scene files on the command line go with --benchmark (else --scene)");
+  if (!q.hits_path.empty() && q.rays_path.empty())
+    throw UsageError("--hits goes with --rays FILE");
+  if (!q.rays_path.empty() && q.hits_path.empty())
+    throw UsageError("--rays needs --hits FILE for the results");
+  if (!q.rays_path.empty() && !q.dump_hits_path.empty())
+    throw UsageError("--rays and --dump-hits are two different queries: give one");
+  if (q.ray_type_given && q.dump_hits_path.empty())
+    throw UsageError("--ray-type goes with --dump-hits FILE");
+  if (q.benchmark && q.query())
+    throw UsageError("--benchmark measures the benchmark's own rays: leave out --rays and "
+                     "--dump-hits");
+  if (app.get_option("--models")->count() > 0 && !q.benchmark)
+    throw UsageError("--models goes with --benchmark");
+}
+
+std::vector<std::string> benchmark_scenes(const QueryOptions& q) {
+  return q.benchmark_scenes.empty() ? benchmark_set(q.models_dir) : q.benchmark_scenes;
+}
+
+int run_query(const QueryOptions& q, const ch03::ProgramOptions& p, Backend backend,
+              const BuildOptions& build, TriangleVariant variant, const TracerMaker& make) {
+  QueryScene s{ch05::load_obj(q.scene_path), {}, {}, {}};
+  s.bvh = build_bvh(s.obj.geometry, build);
+  // A ray file needs no camera (and a scene no view can frame may still be traced).
+  ProtocolView view;
+  if (!q.dump_hits_path.empty()) {
+    view = query_view(q, p, s.bvh.bounds);
+    const Extent extent = p.size_given() ? p.common.extent() : Extent{1920, 1080};
+    s.camera = make_protocol_camera(view, extent.width, extent.height);
+  }
+  const TracerScene scene{
+      scene_name(q.scene_path), s.obj.geometry, s.bvh, s.camera, backend, variant};
+  const std::vector<Tracer> tracers = make(scene);
+  if (tracers.empty() || tracers.front().camera_rays_only)
+    throw UsageError("this tracer cannot trace rays given to it");
+  s.tracer = tracers.front();
+  return q.rays_path.empty() ? run_dump_hits(q, backend, s, view)
+                             : run_ray_file(q, backend, s.tracer);
+}
+
+} // namespace rt::ch07
