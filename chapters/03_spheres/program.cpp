@@ -92,6 +92,14 @@ ReportRow window_row(const std::string& variant, Backend backend, const WindowRe
           {}};
 }
 
+ReportRow window_fps_row(const std::string& variant, Backend backend,
+                         const WindowResult& shown) {
+  ReportRow row = window_row(variant, backend, shown);
+  row.error = format_fixed(1000.0 / shown.frame_time.median_ms, 1) + " frames/s on screen";
+  row.metrics = {{"fps", 1000.0 / shown.frame_time.median_ms}};
+  return row;
+}
+
 ReportRow window_row(const std::string& variant, Backend backend, const WindowResult& shown,
                      std::size_t pixels_differing) {
   ReportRow row = window_row(variant, backend, shown);

@@ -129,6 +129,9 @@ void write_program_image(const ProgramOptions& options, Backend backend,
 // frame time, and millions of pixels per second over the last frame. The error column is left
 // to the caller...
 ReportRow window_row(const std::string& variant, Backend backend, const WindowResult& shown);
+// ... or gives the frames per second on screen ...
+ReportRow window_fps_row(const std::string& variant, Backend backend,
+                         const WindowResult& shown);
 // ... or says how many pixels of the last frame differ from the reference.
 ReportRow window_row(const std::string& variant, Backend backend, const WindowResult& shown,
                      std::size_t pixels_differing);

@@ -116,11 +116,7 @@ int run(ChapterOptions& options) {
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {
-            ReportRow row = ch03::window_row("shaded frame, BVH (SAH)", backend, shown);
-            row.error =
-                format_fixed(1000.0 / shown.frame_time.median_ms, 1) + " frames/s on screen";
-            row.metrics = {{"fps", 1000.0 / shown.frame_time.median_ms}};
-            return row;
+            return ch03::window_fps_row("shaded frame, BVH (SAH)", backend, shown);
           },
       .measure =
           [&](Report& rows) {
