@@ -38,6 +38,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   long long reference_pixels = 1024; // rays traced by the float64 reference
   bool skip_cpu = false;
   bool end_to_end = true; // with --benchmark: also the shaded frame
+  int check_rays = 4096;  // with --benchmark: rays per ray type checked against brute force
 };
 
 int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
@@ -47,7 +48,7 @@ int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
   runner.variant = options.variant;
   runner.build = options.build;
   runner.frames = options.common.frames;
-  runner.check_rays = 4096;
+  runner.check_rays = options.check_rays;
   runner.build_rows = true;
   runner.end_to_end = options.end_to_end;
   Report report("Chapter 07: benchmark protocol", "Mrays/s",
@@ -160,6 +161,11 @@ int main(int argc, char** argv) {
   ch03::add_image_only_option(app, options);
   add_on_off_option(app, "--end-to-end", options.end_to_end,
                     "With --benchmark: also time the shaded frame");
+  app.add_option("--check-rays", options.check_rays,
+                 "With --benchmark: rays per ray type checked against brute force (as many as "
+                 "the image has: every ray)")
+      ->check(CLI::Range(0, rt::k_max_image_side * rt::k_max_image_side))
+      ->capture_default_str();
   return ch03::run_program_main(app, argc, argv, options, [&] {
     check_query_options(options.query, app);
     return run(options);
