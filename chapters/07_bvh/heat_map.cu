@@ -8,11 +8,14 @@ namespace rt::ch07 {
 
 RT_HD Rgba8 heat_colour(int nodes) {
   constexpr int k_stops = 5;
-  constexpr float k_colour[k_stops][3] = {
-      {0.0f, 0.0f, 0.0f}, {0.35f, 0.1f, 0.55f}, {0.85f, 0.2f, 0.2f}, {1.0f, 0.8f, 0.1f},
-      {1.0f, 1.0f, 1.0f}};
-  const float x = static_cast<float>(nodes < k_heat_map_max_nodes ? nodes : k_heat_map_max_nodes) /
-                  k_heat_map_max_nodes * (k_stops - 1);
+  constexpr float k_colour[k_stops][3] = {{0.0f, 0.0f, 0.0f},
+                                          {0.35f, 0.1f, 0.55f},
+                                          {0.85f, 0.2f, 0.2f},
+                                          {1.0f, 0.8f, 0.1f},
+                                          {1.0f, 1.0f, 1.0f}};
+  const float x =
+      static_cast<float>(nodes < k_heat_map_max_nodes ? nodes : k_heat_map_max_nodes) /
+      k_heat_map_max_nodes * (k_stops - 1);
   const int low = x < k_stops - 1 ? static_cast<int>(x) : k_stops - 2;
   const float f = x - static_cast<float>(low);
   const auto channel = [&](int c) {
