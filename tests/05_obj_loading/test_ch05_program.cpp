@@ -267,8 +267,7 @@ TEST_CASE("take_scene moves the triangles and material ids, keeps bounds and cou
   CHECK(mesh.bounds_min == lo);
 }
 
-TEST_CASE("index mistakes rebuild the triangles as the original loader's bugs did",
-          "[ch05]") {
+TEST_CASE("index mistakes rebuild the triangles as the original loader's bugs did", "[ch05]") {
   using Triangles = std::vector<std::array<int, 3>>;
   const auto corners = [](const ch04::TriangleScene& scene) {
     Triangles out;
