@@ -34,6 +34,13 @@ mkdir -p "$img"
 "$bin/ch05_obj_loading" --headless --backend cpu --width 480 --height 270 \
   --reference-pixels 2000 --scaling-max -1 --output "$img/05_model.png" >/dev/null
 
+# ...and the original loader's two index mistakes on the Cornell room, beside the right load.
+for mistake in none minus-one file-order; do
+  "$bin/ch05_obj_loading" --headless --backend cpu --width 320 --height 240 \
+    --scene assets/cornell_room.obj.gz --index-mistake "$mistake" --reference-pixels 1000 \
+    --scaling-max -1 --output "$img/05_index_$mistake.png" >/dev/null
+done
+
 # Chapter 06: the built-in scene at 480x270, flat and smooth shading (shadows on).
 "$bin/ch06_lambertian_shading" --headless --backend cpu --width 480 --height 270 --shading flat \
   --image-only --output "$img/06_flat.png" >/dev/null
@@ -47,10 +54,27 @@ for shading in flat smooth; do
     --image-only --output "$img/06_torus_$shading.png" >/dev/null
 done
 
+# The shadow terminator on an 80-triangle sphere lit from the side, without and with the lift.
+for lift in off on; do
+  "$bin/ch06_lambertian_shading" --headless --backend cpu --width 480 --height 270 \
+    --subdivisions 1 --point-light off --light-dir 1,0.15,0.25 --eye -1.2,1.6,3.6 \
+    --target -1.2,1.0,0 --fov 30 --terminator-lift "$lift" --image-only \
+    --output "$img/06_terminator_lift_$lift.png" >/dev/null
+done
+
 # Chapter 07: the torus knot shaded through the tree, at 960x540 on the CPU (seconds, where
 # chapter 05's brute force took minutes for a quarter of the pixels).
 "$bin/ch07_bvh" --headless --backend cpu --width 960 --height 540 --image-only \
   --output "$img/07_knot.png" >/dev/null
+
+# Chapter 07: nodes visited per camera ray, through the median and the SAH tree.
+for split in median sah; do
+  "$bin/ch07_bvh" --headless --backend cpu --width 480 --height 270 --image-only --heat-map \
+    --split "$split" --output "$img/07_heat_$split.png" >/dev/null
+done
+
+# Diagrams, one script per chapter (matplotlib; chapter 08's also plots book/data).
+for script in tools/diagrams/ch*.py; do python3 "$script" "$img"; done
 
 # Error-against-run-time plots, from the reports measured on a GPU machine (book/data/, written
 # by tools/gpu/run.sh's --json runs and copied there).
@@ -61,6 +85,9 @@ python3 tools/plot-report.py --metric leaks --per rays --rows "leaks," \
   --ylabel "leaks per million rays" --xlabel "ms per million rays" \
   --title "Chapter 04: leaks against time per million rays" \
   --out "$img/04_leaks_vs_time.svg" book/data/04_moller_trumbore.json
-python3 tools/plot-report.py --metric max_rel_t_error --ylabel "max relative t error" \
-  --title "Chapter 07: t error (sampled rays) against time per frame (1280x720)" \
-  --out "$img/07_error_vs_time.svg" book/data/07_bvh.json
+# Chapter 07's rows all have the same error: its plot puts the work per ray against the time
+# (brute force's rows carry no count: it tests all 100 000 triangles).
+python3 tools/plot-report.py --metric triangles_per_ray --rows "brute force" --rows "BVH" \
+  --missing 100000 --ylabel "triangle tests per ray" \
+  --title "Chapter 07: triangle tests per ray against time per frame (1280x720)" \
+  --out "$img/07_work_vs_time.svg" book/data/07_bvh.json

@@ -1,34 +1,58 @@
 #!/usr/bin/env python3
-"""Draws a chapter's error-against-run-time plot (SVG) from the JSON its report writes.
+"""Draws a chapter's plot (SVG, with matplotlib) from the JSON its report writes.
 
-  tools/plot-report.py --metric NAME [--per RAYS_METRIC] [--rows PREFIX] [--xlabel TEXT]
-                       [--ylabel TEXT] --title TEXT --out FILE.svg REPORT.json
+  tools/plot-report.py --metric NAME [--per RAYS_METRIC] [--rows PREFIX]... [--missing VALUE]
+                       [--xlabel TEXT] [--ylabel TEXT] --title TEXT --out FILE.svg REPORT.json
 
-One point per report row (optionally only rows whose variant starts with PREFIX): x is the
-row's ms/frame, y its metric NAME (divided by the metric RAYS_METRIC and multiplied by a
-million with --per), both on log scales. A zero error is drawn on the bottom edge, labelled 0.
-Only the standard library is used, so the plot can be redrawn anywhere.
+One point per report row (only rows whose variant starts with one of the PREFIXes, when
+given): x is the row's ms/frame, y its metric NAME (divided by the metric RAYS_METRIC and
+multiplied by a million with --per), both on log scales. A row without the metric is left out,
+or drawn at VALUE with --missing. A zero is drawn on the bottom edge, labelled 0. GPU rows are
+blue, CPU rows red. The SVG carries no date and fixed ids, so the same data gives the same file.
 """
 import argparse
 import json
 import math
 import sys
-from xml.sax.saxutils import escape
 
-WIDTH, HEIGHT = 900, 420
-LEFT, RIGHT, TOP, BOTTOM = 80, 340, 40, 60
+import matplotlib
+
+matplotlib.use("svg")
+import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
+import matplotlib.ticker  # noqa: E402
+
 COLOURS = {"gpu": "#2a7ab0", "cpu": "#c0392b"}
 
 
-def decades(lo, hi):
-    return range(math.floor(math.log10(lo)), math.ceil(math.log10(hi)) + 1)
+def selected_points(report, args):
+    points = []
+    for row in report["rows"]:
+        metrics = row.get("metrics", {})
+        prefix = next((p for p in args.rows if row["variant"].startswith(p)), None)
+        if args.rows and prefix is None:
+            continue
+        if args.metric in metrics:
+            value = metrics[args.metric]
+        elif args.missing is not None:
+            value = args.missing
+        else:
+            continue
+        if args.per:
+            value = value / metrics[args.per] * 1e6
+        # A prefix that ends in a comma names a group ("leaks,"): the label is the rest.
+        label = row["variant"]
+        if prefix and prefix.rstrip().endswith(","):
+            label = label[len(prefix):].strip(", ")
+        points.append((row["ms_per_frame"], value, label, row["backend"]))
+    return points
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--metric", required=True)
     parser.add_argument("--per")
-    parser.add_argument("--rows", default="")
+    parser.add_argument("--rows", action="append", default=[])
+    parser.add_argument("--missing", type=float)
     parser.add_argument("--title", required=True)
     parser.add_argument("--ylabel", default=None)
     parser.add_argument("--xlabel", default="ms per frame")
@@ -38,69 +62,44 @@ def main():
 
     with open(args.report, encoding="utf-8") as f:
         report = json.load(f)
-    points = []
-    for row in report["rows"]:
-        metrics = row.get("metrics", {})
-        if not row["variant"].startswith(args.rows) or args.metric not in metrics:
-            continue
-        value = metrics[args.metric]
-        if args.per:
-            value = value / metrics[args.per] * 1e6
-        label = row["variant"][len(args.rows):].strip(", ")
-        points.append((row["ms_per_frame"], value, label, row["backend"]))
+    points = selected_points(report, args)
     if not points:
         sys.exit(f"plot-report: no row of {args.report} has the metric {args.metric}")
 
-    xs = [p[0] for p in points]
     nonzero = [p[1] for p in points if p[1] > 0] or [1.0]
-    x_lo, x_hi = 10 ** math.floor(math.log10(min(xs))), 10 ** math.ceil(math.log10(max(xs)))
-    y_hi = 10 ** math.ceil(math.log10(max(nonzero)))
-    y_lo = 10 ** (math.floor(math.log10(min(nonzero))) - 1)
-    if x_hi == x_lo:
-        x_hi *= 10
+    floor = 10 ** (math.floor(math.log10(min(nonzero))) - 1)  # where a zero is drawn
 
-    def sx(x):
-        return LEFT + (math.log10(x) - math.log10(x_lo)) / (
-            math.log10(x_hi) - math.log10(x_lo)) * (WIDTH - LEFT - RIGHT)
-
-    def sy(y):
-        y = max(y, y_lo)
-        return HEIGHT - BOTTOM - (math.log10(y) - math.log10(y_lo)) / (
-            math.log10(y_hi) - math.log10(y_lo)) * (HEIGHT - TOP - BOTTOM)
-
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" '
-           f'font-family="sans-serif" font-size="12">',
-           f'<rect width="{WIDTH}" height="{HEIGHT}" fill="white"/>',
-           f'<text x="{LEFT}" y="24" font-size="15">{escape(args.title)}</text>']
-    for e in decades(x_lo, x_hi):
-        x = sx(10 ** e)
-        out.append(f'<line x1="{x:.1f}" y1="{TOP}" x2="{x:.1f}" y2="{HEIGHT - BOTTOM}" '
-                   f'stroke="#ddd"/>')
-        out.append(f'<text x="{x:.1f}" y="{HEIGHT - BOTTOM + 16}" text-anchor="middle">'
-                   f'1e{e}</text>')
-    for e in decades(y_lo, y_hi):
-        y = sy(10 ** e)
-        out.append(f'<line x1="{LEFT}" y1="{y:.1f}" x2="{WIDTH - RIGHT}" y2="{y:.1f}" '
-                   f'stroke="#ddd"/>')
-        text = "0" if e == math.log10(y_lo) else f"1e{e}"
-        out.append(f'<text x="{LEFT - 6}" y="{y + 4:.1f}" text-anchor="end">{text}</text>')
-    out.append(f'<text x="{(LEFT + WIDTH - RIGHT) / 2}" y="{HEIGHT - 16}" '
-               f'text-anchor="middle">{escape(args.xlabel)} (log)</text>')
-    ylabel = escape(args.ylabel or args.metric)
-    out.append(f'<text transform="translate(18,{(TOP + HEIGHT - BOTTOM) / 2}) rotate(-90)" '
-               f'text-anchor="middle">{ylabel} (log)</text>')
-    for i, (x, y, label, backend) in enumerate(points):
-        colour = COLOURS.get(backend, "#555")
-        px, py = sx(x), sy(y)
-        out.append(f'<circle cx="{px:.1f}" cy="{py:.1f}" r="5" fill="{colour}"/>')
-        ly = TOP + 14 + 16 * i
-        out.append(f'<line x1="{px:.1f}" y1="{py:.1f}" x2="{WIDTH - RIGHT + 8}" y2="{ly - 4}" '
-                   f'stroke="{colour}" stroke-opacity="0.35"/>')
-        out.append(f'<text x="{WIDTH - RIGHT + 12}" y="{ly}" fill="{colour}">'
-                   f'{escape(label)} ({backend})</text>')
-    out.append("</svg>")
-    with open(args.out, "w", encoding="utf-8") as f:
-        f.write("\n".join(out) + "\n")
+    plt.rcParams.update({"svg.hashsalt": "rt-course", "font.size": 10})
+    fig, ax = plt.subplots(figsize=(9.5, 4.4))
+    fig.subplots_adjust(left=0.09, right=0.63, top=0.9, bottom=0.13)
+    # The labels stand in a column right of the plot, top to bottom in the points' order, each
+    # joined to its point by a faint line: they never overlap, however close the points are.
+    order = sorted(range(len(points)), key=lambda i: (-points[i][1], points[i][0]))
+    step = min(0.09, 1.0 / len(points))
+    for rank, i in enumerate(order):
+        x, y, label, backend = points[i]
+        colour = COLOURS.get(backend, "#555555")
+        y = max(y, floor)
+        ax.scatter([x], [y], s=36, color=colour, zorder=3)
+        ax.annotate(f"{label} ({backend})", xy=(x, y), xycoords="data",
+                    xytext=(1.03, 1.0 - step * (rank + 0.5)), textcoords="axes fraction",
+                    fontsize=8, color=colour, va="center", annotation_clip=False,
+                    arrowprops={"arrowstyle": "-", "color": colour, "alpha": 0.35,
+                                "linewidth": 0.8, "shrinkA": 0, "shrinkB": 3})
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    has_zero = any(p[1] <= 0 for p in points)
+    ax.set_ylim(floor / 2 if has_zero else min(nonzero) / 3, max(p[1] for p in points) * 3)
+    if has_zero:
+        default = ax.yaxis.get_major_formatter()
+        ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
+            lambda v, pos: "0" if math.isclose(v, floor) else default(v, pos)))
+    ax.set_xlabel(f"{args.xlabel} (log)")
+    ax.set_ylabel(f"{args.ylabel or args.metric} (log)")
+    ax.set_title(args.title, fontsize=11, loc="left")
+    ax.grid(True, which="major", color="#dddddd", linewidth=0.6)
+    ax.margins(x=0.15)
+    fig.savefig(args.out, format="svg", metadata={"Date": None})
 
 
 if __name__ == "__main__":

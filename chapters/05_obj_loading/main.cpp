@@ -7,8 +7,10 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "camera_cli.h"
+#include "index_mistakes.h"
 #include "model_render.h"
 #include "model_report.h"
 #include "obj_loader.h"
@@ -30,6 +32,7 @@ struct ChapterOptions : ch03::ProgramOptions { // eye and target framed unless g
   long long reference_pixels = 128 * 72; // traced by the float64 reference and the CPU rows
   int scaling_max = 5;                   // icospheres of 20 * 4^k triangles, k = 0..this
   TriangleVariant image_variant = TriangleVariant::watertight;
+  IndexMistake index_mistake = IndexMistake::none; // the original loader's bugs, to see them
 };
 
 // The automatic camera frames the model's bounding box; --eye and --target, where given,
@@ -68,8 +71,12 @@ int run(ChapterOptions options) {
                                "float64 reference (CPU)", backend);
   add_model_context(report, options.scene, mesh, load_ms, camera,
                     options.eye_given || options.target_given);
+  if (options.index_mistake != IndexMistake::none)
+    report.add_context("index mistake", "the triangles are built wrongly on purpose");
   const Vec3d lo = mesh.bounds_min.as<double>(), hi = mesh.bounds_max.as<double>();
-  const TriangleScene scene = take_scene(mesh); // mesh keeps its bounds and counts only
+  TriangleScene mistaken = take_scene(mesh); // mesh keeps its bounds and counts only
+  repeat_index_mistake(mistaken, options.index_mistake);
+  const TriangleScene scene = std::move(mistaken);
 
   const ModelMeasurements measurements{
       .extent = options.common.extent(),
@@ -150,6 +157,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(-1, 7))
       ->capture_default_str();
   ch04::add_triangle_variant_option(app, options.image_variant);
+  app.add_option_function<std::string>(
+         "--index-mistake",
+         [&](const std::string& text) { options.index_mistake = parse_index_mistake(text); },
+         "Build the triangles as the original loader's bugs would, to see the picture: "
+         "minus-one (OBJ's 1 subtracted twice) or file-order (vertices 3i, 3i+1, 3i+2)")
+      ->check(CLI::IsMember({"none", "minus-one", "file-order"}))
+      ->default_str("none");
   app.footer("Brute force on the CPU takes seconds per frame for large models: try the window "
              "there with --scene " RT_ASSETS_DIR "/cornell_room.obj.gz.");
   return ch03::run_program_main(app, argc, argv, options, [&] { return run(options); });

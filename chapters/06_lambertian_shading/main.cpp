@@ -27,6 +27,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   bool smooth = true;  // the image's shading
   bool shadows = true; // the image's shadows
   LightSettings lights;
+  bool terminator_lift = true; // off: shadow rays leave from the flat triangle itself
   bool skip_cpu = false;
 };
 
@@ -39,8 +40,10 @@ ShadedScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
     framed = default_camera(options.scale);
   } else {
     scene = scene_from_obj(ch05::load_obj(options.scene_path), options.lights);
-    framed = frame_bounds(bounds_of(scene.mesh), options.camera.fov_degrees);
+    framed = frame_bounds_down_z(bounds_of(scene.mesh), options.camera.fov_degrees,
+                                 options.common.extent());
   }
+  scene.lift_shadow_origins = options.terminator_lift;
   if (!options.eye_given) camera.eye = framed.eye;
   if (!options.target_given) camera.target = framed.target;
   return scene;
@@ -148,6 +151,9 @@ int main(int argc, char** argv) {
       ->default_str("-0.5,1,0.7");
   app.add_option("--ambient", options.lights.ambient, "Ambient irradiance (grey), 0 to 1")
       ->capture_default_str();
+  add_on_off_option(app, "--terminator-lift", options.terminator_lift,
+                    "Start smooth shading's shadow rays from the lifted point (off: from the "
+                    "flat triangle, to see the shadow terminator it removes)");
   app.add_flag("--skip-cpu", options.skip_cpu,
                "On the GPU, leave out the CPU rows (brute force on a large model is slow)");
   ch03::add_image_only_option(app, options);

@@ -28,6 +28,7 @@ template <class Geometry> struct SceneViewOf {
   const IndexedTriangle* normal_indices; // per triangle, into normals: smooth shading only
   Palette palette;                       // albedo per slot
   Lights lights;                         // by value
+  bool lift_shadow_origins = true;       // Hanika's lift; off only to show what it removes
 };
 // This chapter traces every ray against every triangle of a MeshView (brute force). A later
 // chapter passes its own geometry type with its own closest_surface, occluded and triangle_as:
@@ -149,7 +150,7 @@ RT_HD ShadingPoint<T> shading_point(const S& scene, const Ray<T>& ray, const Sur
       // A blend of zero length (opposite vertex normals) falls back to the face's normal.
       point.shading = faced(unit_or(interpolated_normal(scene, hit), geometric), geometric);
       if constexpr (F::compiled(k_shadows))
-        if (features.on(k_shadows))
+        if (features.on(k_shadows) && scene.lift_shadow_origins)
           point.shadow_from = lifted_point(scene, tri, hit, p, geometric);
     }
   }

@@ -61,7 +61,7 @@ DeviceShadedScene::DeviceShadedScene(const ShadedScene& scene, unsigned features
     : vertices_(std::span<const Vec3f>(scene.mesh.vertices)),
       triangles_(std::span<const IndexedTriangle>(scene.mesh.triangles)),
       material_(std::span<const std::uint8_t>(scene.material)), palette_(scene.palette),
-      lights_(scene.lights) {
+      lights_(scene.lights), lift_shadow_origins_(scene.lift_shadow_origins) {
   if ((features & k_smooth_normals) == 0) return; // flat shading reads no vertex normals
   normals_ = DeviceBuffer<Vec3f>(std::span<const Vec3f>(scene.normals));
   normal_indices_ =
@@ -74,7 +74,8 @@ SceneView DeviceShadedScene::view() const {
                  nullptr,
                  nullptr,
                  palette_,
-                 lights_};
+                 lights_,
+                 lift_shadow_origins_};
   if (normals_.size() > 0) {
     view.normals = normals_.data();
     view.normal_indices =

@@ -36,6 +36,7 @@ private:
   DeviceBuffer<IndexedTriangle> normal_indices_; // empty: the triangles index the normals
   Palette palette_;
   Lights lights_;
+  bool lift_shadow_origins_;
 };
 
 // The features a kernel must be given the data of: its own set, or all of them.

@@ -1,6 +1,7 @@
 // Chapter 06: scenes to shade. See shaded_scene.h.
 #include "shaded_scene.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -102,8 +103,11 @@ Bounds bounds_of(const ch04::Mesh& mesh) {
   return {lo.as<double>(), hi.as<double>()};
 }
 
-CameraSpec frame_bounds(const Bounds& bounds, double fov_degrees) {
-  const double half_fov = fov_degrees * std::numbers::pi / 360.0;
+CameraSpec frame_bounds_down_z(const Bounds& bounds, double fov_degrees, Extent extent) {
+  const double half_vertical = fov_degrees * std::numbers::pi / 360.0;
+  const double half_horizontal =
+      std::atan(std::tan(half_vertical) * double(extent.width) / extent.height);
+  const double half_fov = std::min(half_vertical, half_horizontal);
   // Triangles that all lie at one point have no size: any distance will do.
   const double radius = bounds.radius() > 0.0 ? bounds.radius() : 1.0;
   CameraSpec camera;
@@ -237,7 +241,8 @@ SceneView host_view(const ShadedScene& scene, unsigned features) {
                  nullptr,
                  nullptr,
                  scene.palette,
-                 scene.lights};
+                 scene.lights,
+                 scene.lift_shadow_origins};
   if (features & k_smooth_normals) {
     view.normals = scene.normals.data();
     view.normal_indices = scene.normal_indices.empty() ? scene.mesh.triangles.data()
@@ -246,10 +251,11 @@ SceneView host_view(const ShadedScene& scene, unsigned features) {
   return view;
 }
 
-ShadedScene load_framed_obj(const std::string& path, CameraSpec& camera, bool eye_given,
-                            bool target_given) {
+ShadedScene load_framed_obj(const std::string& path, CameraSpec& camera, Extent extent,
+                            bool eye_given, bool target_given) {
   ShadedScene scene = scene_from_obj(ch05::load_obj(path), LightSettings{});
-  const CameraSpec framed = frame_bounds(bounds_of(scene.mesh), camera.fov_degrees);
+  const CameraSpec framed =
+      frame_bounds_down_z(bounds_of(scene.mesh), camera.fov_degrees, extent);
   if (!eye_given) camera.eye = framed.eye;
   if (!target_given) camera.target = framed.target;
   return scene;

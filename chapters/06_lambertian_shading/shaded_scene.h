@@ -26,6 +26,7 @@ struct ShadedScene {
   std::vector<Vec3f> normals;                  // vertex normals for smooth shading
   std::vector<IndexedTriangle> normal_indices; // per triangle; empty: one normal per position
   Lights lights;
+  bool lift_shadow_origins = true; // Hanika's lift for smooth shading with shadows
   std::string description; // for the report: what the scene is, where its normals came from
 };
 
@@ -42,9 +43,11 @@ struct Bounds {
 // The box around the positions that triangles use; InputError if there are no triangles.
 Bounds bounds_of(const ch04::Mesh& mesh);
 
-// The benchmark protocol's auto-framing: looking down -z at the box's centre from
-// r / sin(fov / 2) away, so the bounding sphere fills the view's height.
-CameraSpec frame_bounds(const Bounds& bounds, double fov_degrees);
+// This chapter's auto-framing, the benchmark protocol's for wide images: looking down -z at
+// the box's centre from r / sin(half angle) away, the half angle being that of the narrower
+// of the two fields of view, so the bounding sphere fills the image's height (a wide image)
+// or its width (a tall one). Chapter 05's frame_bounds looks from a slanted direction instead.
+CameraSpec frame_bounds_down_z(const Bounds& bounds, double fov_degrees, Extent extent);
 
 struct LightSettings {
   Vec3d direction{-0.5, 1.0, 0.7}; // towards the directional light; any length but zero
@@ -85,8 +88,8 @@ std::size_t scene_bytes(const ShadedScene& scene, unsigned features);
 SceneView host_view(const ShadedScene& scene, unsigned features);
 
 // An OBJ file as a shaded scene with the default lights, and `camera` framed on it (at its
-// own field of view) wherever the reader gave no eye or no target.
-ShadedScene load_framed_obj(const std::string& path, CameraSpec& camera, bool eye_given,
-                            bool target_given);
+// own field of view, for an image of `extent`) wherever the reader gave no eye or no target.
+ShadedScene load_framed_obj(const std::string& path, CameraSpec& camera, Extent extent,
+                            bool eye_given, bool target_given);
 
 } // namespace rt::ch06

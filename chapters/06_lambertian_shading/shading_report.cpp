@@ -127,7 +127,7 @@ void report_acne(const std::vector<Backend>& backends, Extent image,
   const Extent extent{std::min(image.width, 320), std::min(image.height, 180)};
   for (const double scale : {1.0, 1e3, 1e6}) {
     const ShadedScene sphere = make_lone_sphere(2, scale, lights);
-    const CameraSpec spec = frame_bounds(bounds_of(sphere.mesh), 40.0);
+    const CameraSpec spec = frame_bounds_down_z(bounds_of(sphere.mesh), 40.0, extent);
     const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
     const unsigned features = features_used(sphere, false, true);
     for (const Backend backend : backends) {

@@ -50,8 +50,9 @@ RT_HD ch04::Triangle<T> triangle_as(const BvhGeometryOf<Tree>& g, int i) {
 // Chapter 06's scene view with the tree added.
 template <class Tree>
 ch06::SceneViewOf<BvhGeometryOf<Tree>> with_bvh(const ch06::SceneView& scene, const Tree& bvh) {
-  return {{bvh, scene.mesh},    scene.material, scene.normals,
-          scene.normal_indices, scene.palette,  scene.lights};
+  return {{bvh, scene.mesh},        scene.material, scene.normals,
+          scene.normal_indices,     scene.palette,  scene.lights,
+          scene.lift_shadow_origins};
 }
 
 } // namespace rt::ch07

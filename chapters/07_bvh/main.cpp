@@ -16,6 +16,7 @@
 #include "bvh_trace.h"
 #include "camera_cli.h"
 #include "chapter_report.h"
+#include "heat_map.h"
 #include "program.h"
 #include "query_modes.h"
 #include "rt/program_output.h"
@@ -39,6 +40,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   bool skip_cpu = false;
   bool end_to_end = true; // with --benchmark: also the shaded frame
   int check_rays = 4096;  // with --benchmark: rays per ray type checked against brute force
+  bool heat_map = false;  // the image shows nodes visited per ray instead of shading
 };
 
 int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
@@ -75,8 +77,9 @@ int run(ChapterOptions& options) {
                      chapter07_tracers);
 
   ch03::CameraSpec camera = options.camera;
-  const ShadedScene scene = ch06::load_framed_obj(options.query.scene_path, camera,
-                                                  options.eye_given, options.target_given);
+  const ShadedScene scene =
+      ch06::load_framed_obj(options.query.scene_path, camera, options.common.extent(),
+                            options.eye_given, options.target_given);
   ch03::validate_camera(camera);
   Report report = start_report("Chapter 07: bounding volume hierarchy", "Mrays/s",
                                "float64 brute force (CPU, sampled rays)", backend);
@@ -112,8 +115,10 @@ int run(ChapterOptions& options) {
             const BvhSceneView view =
                 d_scene ? with_bvh(d_scene->view(), d_bvh->view())
                         : with_bvh(ch06::host_view(scene, features), bvh->view());
-            render_bvh_shaded(b, features, view, ch03::make_camera<float>(spec, extent), extent,
-                              pixels);
+            const auto frame_camera = ch03::make_camera<float>(spec, extent);
+            if (options.heat_map)
+              return render_node_heat_map(b, view.mesh.bvh, frame_camera, extent, pixels);
+            render_bvh_shaded(b, features, view, frame_camera, extent, pixels);
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {
@@ -159,6 +164,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
   ch03::add_image_only_option(app, options);
+  app.add_flag("--heat-map", options.heat_map,
+               "The image shows how many nodes each camera ray visits (black: none, white: 48 "
+               "or more) instead of the shaded frame");
   add_on_off_option(app, "--end-to-end", options.end_to_end,
                     "With --benchmark: also time the shaded frame");
   app.add_option("--check-rays", options.check_rays,

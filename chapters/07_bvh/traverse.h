@@ -43,7 +43,8 @@ RT_HD inline bool traceable(const RayF& ray) {
 // What every box test of one ray shares, computed once per ray. 1/d is +-infinity for a zero
 // component (IEEE division by a signed zero), which is what the slab test below needs. The
 // sign of 1/d, not d < 0, chooses the near plane: -0.0 has the reciprocal -inf, so it must
-// pick the planes of a negative direction, or a ray lying on a slab plane finds the box empty.
+// pick the planes of a negative direction. Chosen by d < 0, every box whose slab on that axis
+// contains the origin (the only boxes such a ray can enter) gets an empty interval.
 struct BoxRay {
   Vec3f origin;
   Vec3f inverse; // 1 / direction, per component
@@ -92,9 +93,11 @@ inline constexpr float k_tmax_slack = 1.0f + 0x1p-16f;
 //     constraining the ray: an origin on the boundary counts as inside, the conservative
 //     answer. With the origin strictly outside that slab, the distance is +-inf and the
 //     box is missed, as it must be.
-//   - Each distance is computed with two rounded operations and may be a little short;
-//     the exit distance is enlarged by 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"),
-//     so a ray that touches a box in exact arithmetic is never refused in float.
+//   - Each distance (b - o) * (1/d) takes three rounded operations (the reciprocal, the
+//     difference, the product), so it may be off by gamma(3) of itself, where
+//     gamma(n) = n u / (1 - n u) and u = 2^-24. The entry may come out that much too late and
+//     the exit that much too early: the exit is enlarged by 2 gamma(3) (Ize 2013, "Robust
+//     BVH Ray Traversal"), so a ray that touches a box in exact arithmetic is never refused.
 //   - The box is compared with tmax, the nearest hit so far, enlarged by k_tmax_slack: the
 //     triangle test rounds too, and its t can come out a few float steps short of the exact
 //     distance, so a triangle whose computed t lies below tmax can sit in a box whose computed

@@ -97,8 +97,9 @@ int run(ChapterOptions& options) {
                            memory_path_tracers({options.paths.front()}, false));
 
   ch03::CameraSpec camera = options.camera;
-  const ShadedScene scene = ch06::load_framed_obj(options.query.scene_path, camera,
-                                                  options.eye_given, options.target_given);
+  const ShadedScene scene =
+      ch06::load_framed_obj(options.query.scene_path, camera, options.common.extent(),
+                            options.eye_given, options.target_given);
   ch03::validate_camera(camera);
   Report report = start_report(
       "Chapter 08: memory spaces for the traversal", "Mrays/s",

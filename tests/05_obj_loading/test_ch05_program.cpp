@@ -2,6 +2,7 @@
 // in view, the pixel sample, renders of a loaded model against the float64 reference (a
 // sampled render equals the same pixels of the whole image), the progress line, and the
 // course's own models in assets/ (what assets/README.md says they are).
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -15,6 +16,7 @@
 
 #include "camera_cli.h"
 #include "gpu_guard.h"
+#include "index_mistakes.h"
 #include "mesh_gen.h"
 #include "model_render.h"
 #include "obj_loader.h"
@@ -263,6 +265,34 @@ TEST_CASE("take_scene moves the triangles and material ids, keeps bounds and cou
   CHECK(scene.mesh.triangles.size() == triangles.size());
   CHECK(scene.object == materials);
   CHECK(mesh.bounds_min == lo);
+}
+
+TEST_CASE("index mistakes rebuild the triangles as the original loader's bugs did", "[ch05]") {
+  using Triangles = std::vector<std::array<int, 3>>;
+  const auto corners = [](const ch04::TriangleScene& scene) {
+    Triangles out;
+    for (const ch04::IndexedTriangle& t : scene.mesh.triangles)
+      out.push_back({t.v0, t.v1, t.v2});
+    return out;
+  };
+  ch04::TriangleScene loaded;
+  loaded.mesh.vertices.resize(6);
+  loaded.mesh.triangles = {{2, 3, 0}, {3, 1, 0}, {1, 4, 0}};
+  loaded.object = {5, 6, 7};
+  ch04::TriangleScene scene = loaded;
+  repeat_index_mistake(scene, IndexMistake::none);
+  CHECK(corners(scene) == corners(loaded));
+  // One index lower; vertex 0's -1 wraps round to the last vertex.
+  repeat_index_mistake(scene, IndexMistake::minus_one);
+  CHECK(corners(scene) == Triangles{{1, 2, 5}, {2, 0, 5}, {0, 3, 5}});
+  CHECK(scene.object == loaded.object);
+  // Three vertices per triangle in file order: six vertices make two.
+  scene = loaded;
+  repeat_index_mistake(scene, IndexMistake::file_order);
+  CHECK(corners(scene) == Triangles{{0, 1, 2}, {3, 4, 5}});
+  CHECK(scene.object == std::vector<std::int32_t>{5, 6});
+  CHECK(parse_index_mistake("minus-one") == IndexMistake::minus_one);
+  CHECK_THROWS_AS(parse_index_mistake("off-by-two"), UsageError);
 }
 
 TEST_CASE("assets: the 100k-triangle torus knot is one closed mesh", "[ch05]") {

@@ -309,7 +309,7 @@ TEST_CASE("no shadow acne on a convex mesh at scales 1, 1e3 and 1e6", "[ch06]") 
   const Extent extent{96, 64};
   for (const double scale : {1.0, 1e3, 1e6}) {
     const ShadedScene sphere = make_lone_sphere(3, scale, LightSettings{});
-    const CameraSpec spec = frame_bounds(bounds_of(sphere.mesh), 40.0);
+    const CameraSpec spec = frame_bounds_down_z(bounds_of(sphere.mesh), 40.0, extent);
     for (const bool smooth : {false, true}) {
       const unsigned features = features_used(sphere, smooth, true);
       REQUIRE(features == ((smooth ? k_smooth_normals : 0u) | k_shadows | k_point_lights));
@@ -328,6 +328,34 @@ TEST_CASE("no shadow acne on a convex mesh at scales 1, 1e3 and 1e6", "[ch06]") 
       CHECK(acne == 0);
     }
   }
+}
+
+TEST_CASE("the shadow terminator: lifted shadow origins light a coarse sphere's smooth side",
+          "[ch06]") {
+  // An 80-triangle sphere lit from the side: along the terminator, the smooth normal still
+  // faces the light while shadow rays from the flat triangles run into their neighbours.
+  const Extent extent{160, 90};
+  LightSettings side;
+  side.direction = {1.0, 0.2, 0.0};
+  side.point_light = false;
+  ShadedScene sphere = make_lone_sphere(1, 1.0, side);
+  const CameraSpec spec = frame_bounds_down_z(bounds_of(sphere.mesh), 40.0, extent);
+  const unsigned features = features_used(sphere, true, true);
+  const ShadedFrame lifted =
+      render_cpu(sphere, KernelKind::specialised, features, spec, extent);
+  sphere.lift_shadow_origins = false;
+  const ShadedFrame unlifted =
+      render_cpu(sphere, KernelKind::specialised, features, spec, extent);
+  long long brighter = 0, darker = 0;
+  for (std::size_t i = 0; i < lifted.image.pixels.size(); ++i) {
+    const Rgba8 a = lifted.image.pixels[i], b = unlifted.image.pixels[i];
+    const int sum_lifted = a.r + a.g + a.b, sum_unlifted = b.r + b.g + b.b;
+    brighter += sum_lifted > sum_unlifted;
+    darker += sum_lifted < sum_unlifted;
+  }
+  CAPTURE(brighter, darker);
+  CHECK(brighter > 20);
+  CHECK(darker == 0);
 }
 
 TEST_CASE("a real occluder shadows: a box over a floor, directional and point lights",
@@ -460,17 +488,25 @@ TEST_CASE("the built-in scene: sphere smooth, box and floor faceted, all normals
   CHECK(big.lights.point[0].intensity.x == Approx(1e12 * scene.lights.point[0].intensity.x));
 }
 
-TEST_CASE("auto-framing: the bounding sphere fills the view's height", "[ch06]") {
+TEST_CASE("auto-framing: the bounding sphere fills the narrower side of the view", "[ch06]") {
   ch04::Mesh mesh = ch04::make_box({1, 2, 3}, {3, 4, 5}, 1);
   const Bounds bounds = bounds_of(mesh);
   CHECK(bounds.min == Vec3d{1, 2, 3});
   CHECK(bounds.max == Vec3d{3, 4, 5});
-  const CameraSpec spec = frame_bounds(bounds, 45.0);
-  CHECK(spec.target == Vec3d{2, 3, 4});
+  // A wide image: the vertical field of view is the narrower one.
+  const CameraSpec wide = frame_bounds_down_z(bounds, 45.0, {160, 90});
+  CHECK(wide.target == Vec3d{2, 3, 4});
   const double distance = std::sqrt(3.0) / std::sin(22.5 * std::numbers::pi / 180.0);
-  CHECK(spec.eye.x == 2.0);
-  CHECK(spec.eye.y == 3.0);
-  CHECK(spec.eye.z == Approx(4.0 + distance).epsilon(1e-12));
+  CHECK(wide.eye.x == 2.0);
+  CHECK(wide.eye.y == 3.0);
+  CHECK(wide.eye.z == Approx(4.0 + distance).epsilon(1e-12));
+  // A tall image: the horizontal one, tan(h) = tan(22.5 deg) * 90 / 160; the sphere touches
+  // the left and right edges instead of being cut off by them.
+  const CameraSpec tall = frame_bounds_down_z(bounds, 45.0, {90, 160});
+  const double half_horizontal =
+      std::atan(std::tan(22.5 * std::numbers::pi / 180.0) * 90.0 / 160.0);
+  CHECK(tall.eye.z == Approx(4.0 + std::sqrt(3.0) / std::sin(half_horizontal)).epsilon(1e-12));
+  CHECK(tall.eye.z > wide.eye.z);
   CHECK_THROWS_AS(bounds_of(ch04::Mesh{}), InputError);
 }
 

@@ -102,7 +102,7 @@ TEST_CASE("GPU: no shadow acne on a convex mesh at scales 1 to 1e6", "[ch06][gpu
   const Extent extent{160, 90};
   for (const double scale : {1.0, 1e3, 1e6}) {
     const ShadedScene sphere = make_lone_sphere(3, scale, LightSettings{});
-    const CameraSpec spec = frame_bounds(bounds_of(sphere.mesh), 40.0);
+    const CameraSpec spec = frame_bounds_down_z(bounds_of(sphere.mesh), 40.0, extent);
     for (const bool smooth : {false, true}) {
       const unsigned features = features_used(sphere, smooth, true);
       const ShadedFrame frame =

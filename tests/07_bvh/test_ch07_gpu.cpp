@@ -107,8 +107,8 @@ TEST_CASE("GPU and CPU trace the 100k-triangle model's camera rays alike", "[ch0
   const ch04::Mesh mesh = ch05::load_obj(RT_ASSETS_DIR "/torus_knot_100k.obj.gz").geometry;
   const Bvh bvh = build_bvh(mesh, {});
   const Extent extent{320, 180};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::frame_bounds(ch06::bounds_of(mesh), 40.0), extent);
+  const ch03::Camera<float> camera = ch03::make_camera<float>(
+      ch06::frame_bounds_down_z(ch06::bounds_of(mesh), 40.0, extent), extent);
   std::vector<RayF> rays;
   for (int y = 0; y < extent.height; ++y)
     for (int x = 0; x < extent.width; ++x) rays.push_back(camera.ray_through_pixel(x, y));

@@ -4,6 +4,7 @@
 // origins on slab planes, flat boxes, denormals, far origins); NaN and infinite rays stop at
 // once; the stack stays within its proven bound; closed meshes do not leak through the tree;
 // and chapter 06's shading traced through the tree gives chapter 06's image.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -16,6 +17,7 @@
 #include "bvh_build.h"
 #include "bvh_render.h"
 #include "bvh_trace.h"
+#include "heat_map.h"
 #include "shaded_render.h"
 #include "shaded_scene.h"
 #include "traverse.h"
@@ -324,4 +326,31 @@ TEST_CASE("chapter 06's shading traced through the tree gives chapter 06's image
     for (const auto& r : tree_records) shadow_rays += r.shadow_rays;
     CHECK(shadow_rays > 1000);
   }
+}
+
+TEST_CASE("the node heat map: each pixel is the colour of its camera ray's node visits",
+          "[ch07]") {
+  CHECK(heat_colour(0) == Rgba8{0, 0, 0, 255});
+  CHECK(heat_colour(k_heat_map_max_nodes) == Rgba8{255, 255, 255, 255});
+  CHECK(heat_colour(10 * k_heat_map_max_nodes) == Rgba8{255, 255, 255, 255});
+  int previous_sum = -1; // brighter with every visit
+  for (int nodes = 0; nodes <= k_heat_map_max_nodes; ++nodes) {
+    const Rgba8 c = heat_colour(nodes);
+    CHECK(c.r + c.g + c.b > previous_sum);
+    previous_sum = c.r + c.g + c.b;
+  }
+  const auto [scene, bvh, extent, camera] = shaded_tree_case(2, {64, 36});
+  std::vector<Rgba8> pixels(extent.pixel_count());
+  render_node_heat_map(Backend::cpu, bvh.view(), camera, extent, pixels.data());
+  int most = 0;
+  for (int y = 0; y < extent.height; ++y) {
+    for (int x = 0; x < extent.width; ++x) {
+      Counters counters;
+      trace_bvh<Query::closest, TriangleVariant::watertight>(
+          bvh.view(), camera.ray_through_pixel(x, y), counters);
+      CHECK(pixels[y * extent.width + x] == heat_colour(counters.nodes));
+      most = std::max(most, counters.nodes);
+    }
+  }
+  CHECK(most > 1); // some rays go deeper than the root
 }
