@@ -3,10 +3,12 @@
 
 #include <memory>
 #include <optional>
+#include <sstream>
 
 #include "bvh_build.h"
 #include "memory_tracers.h"
 #include "model_render.h"
+#include "rt/device_buffer.h"
 #include "rt/error.h"
 #include "wide_trace.h"
 
@@ -128,14 +130,87 @@ ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink 
         out.push_back(make_wide(which, binary, scene, on_build));
         continue;
       }
-      for (Tracer& kept :
-           ch08::kept_tracer()(scene)) { // the binary tree, as chapter 08 keeps it
+      // The binary tree, as chapter 08 keeps it; its work counted by chapter 07's counters.
+      const auto bvh = std::make_shared<const ch07::Bvh>(scene.bvh);
+      for (Tracer& kept : ch08::kept_tracer()(scene)) {
         kept.name = to_string(ChapterTracer::binary);
+        kept.work = [bvh](Query query, std::span<const RayF> rays) {
+          return ch07::measure_work(query, ch04::TriangleVariant::watertight, bvh->view(),
+                                    rays);
+        };
         out.push_back(std::move(kept));
       }
     }
     return out;
   };
+}
+
+ReportRow build_row(const std::string& scene, const std::string& tracer, const WideStats& s) {
+  return {scene + ", build " + tracer + " (CPU)",
+          "cpu",
+          s.build_ms,
+          0.0,
+          group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) + ", " +
+              format_fixed(s.children_per_node, 1) + " children per node, " +
+              format_fixed(s.triangles_per_leaf, 2) + " triangles per leaf, SAH cost " +
+              format_fixed(s.sah_cost, 1) + ", " + format_fixed(s.bytes_per_triangle, 1) +
+              " B/triangle",
+          {{"nodes", double(s.nodes)},
+           {"depth", double(s.depth)},
+           {"children_per_node", s.children_per_node},
+           {"triangles_per_leaf", s.triangles_per_leaf},
+           {"sah_cost", s.sah_cost},
+           {"bytes_per_triangle", s.bytes_per_triangle}}};
+}
+
+SingleTracer::SingleTracer(ChapterTracer which, Backend backend, const ch04::Mesh& mesh,
+                           const ch07::Bvh& bvh)
+    : backend_(backend) {
+  const ch07::PinholeCamera unused_camera{}; // none of these tracers makes its own rays
+  const ch07::TracerScene scene{"", mesh, bvh, unused_camera, backend};
+  tracer_ = std::move(chapter_tracers({which})(scene).front());
+}
+
+std::vector<MeshHit> SingleTracer::trace(Query query, std::span<const RayF> rays) const {
+  std::vector<MeshHit> hits(rays.size());
+  if (backend_ == Backend::cpu) {
+    tracer_.trace_cpu(query, rays, hits);
+  } else if (!rays.empty()) {
+    const DeviceBuffer<RayF> d_rays(rays);
+    DeviceBuffer<MeshHit> d_hits(rays.size());
+    tracer_.trace_gpu(query, d_rays.data(), static_cast<int>(rays.size()), d_hits.data());
+    d_hits.download(hits);
+  }
+  return hits;
+}
+
+std::string memory_table(const std::vector<ch07::SceneResult>& results) {
+  std::ostringstream out;
+  out << "\nbytes per triangle (nodes and triangle records; in brackets: against "
+      << to_string(ChapterTracer::binary) << ")\n\n| scene |";
+  for (const ChapterTracer t : k_all_tracers) out << " " << to_string(t) << " |";
+  out << "\n|---|";
+  for (std::size_t k = 0; k < std::size(k_all_tracers); ++k) out << "---|";
+  out << "\n";
+  for (const ch07::SceneResult& r : results) {
+    const ch07::TracerFigure* binary =
+        r.find(to_string(ChapterTracer::binary), ch07::RayType::primary);
+    out << "| " << r.scene << " |";
+    for (const ChapterTracer t : k_all_tracers) {
+      const ch07::TracerFigure* f = r.find(to_string(t), ch07::RayType::primary);
+      if (f == nullptr) {
+        out << " - |";
+        continue;
+      }
+      out << " " << format_fixed(f->bytes_per_triangle, 1);
+      if (binary != nullptr && binary->bytes_per_triangle > 0)
+        out << " (" << format_fixed(f->bytes_per_triangle / binary->bytes_per_triangle, 2)
+            << "x)";
+      out << " |";
+    }
+    out << "\n";
+  }
+  return out.str();
 }
 
 } // namespace rt::ch09

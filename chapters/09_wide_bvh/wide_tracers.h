@@ -9,9 +9,15 @@
 #include <vector>
 
 #include "collapse.h"
+#include "rt/report.h"
+#include "runner.h"
 #include "tracer.h"
 
 namespace rt::ch09 {
+
+using ch03::RayF;
+using ch04::MeshHit;
+using ch07::Query;
 
 // [listing:chapter_tracers]
 enum class ChapterTracer {
@@ -41,5 +47,29 @@ using BuildSink = std::function<void(const std::string& scene, const std::string
 // The tracers of `tracers` for each scene. The wide trees are built from the scene's mesh
 // with the bins of the runner's tree (binary_options), each binary tree once per scene.
 ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink on_build = {});
+
+// Each wide tree's build as a report row, like chapter 07's build row: its time, nodes, depth,
+// children per node, triangles per leaf, SAH cost and bytes per triangle.
+ReportRow build_row(const std::string& scene, const std::string& tracer,
+                    const WideStats& stats);
+
+// One of the chapter's tracers outside the runner, for the query modes (ray files, hit dumps):
+// its tree built for `mesh` (`bvh` is chapter 07's tree of it) and, on the GPU, uploaded once.
+class SingleTracer {
+public:
+  SingleTracer(ChapterTracer which, Backend backend, const ch04::Mesh& mesh,
+               const ch07::Bvh& bvh);
+  // Host rays in, host hits out, on the tracer's backend.
+  std::vector<MeshHit> trace(Query query, std::span<const RayF> rays) const;
+  const std::string& name() const { return tracer_.name; }
+
+private:
+  Backend backend_;
+  ch07::Tracer tracer_;
+};
+
+// A Markdown table of each tracer's memory per scene: bytes per triangle, nodes and triangle
+// records together, and the share of the binary tree's.
+std::string memory_table(const std::vector<ch07::SceneResult>& results);
 
 } // namespace rt::ch09
