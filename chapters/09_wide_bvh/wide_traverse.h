@@ -36,44 +36,56 @@ template <int N> struct ChildSlabs {
   float far_x[N], far_y[N], far_z[N];
 };
 
-template <int N> RT_HD inline ChildSlabs<N> slabs_of(const WideNode<N>& n, const WideRay& r) {
+// The near and far planes picked from boxes stored by coordinate: per axis, a ray going the
+// negative way enters at hi and leaves at lo. The choice is the same for every child (one
+// select per value, no branch).
+template <int N>
+RT_HD inline ChildSlabs<N> pick_slabs(const float (&lo_x)[N], const float (&lo_y)[N],
+                                      const float (&lo_z)[N], const float (&hi_x)[N],
+                                      const float (&hi_y)[N], const float (&hi_z)[N],
+                                      const WideRay& r) {
   const bool nx = r.box.negative[0], ny = r.box.negative[1], nz = r.box.negative[2];
   ChildSlabs<N> s;
 #if defined(__CUDA_ARCH__)
 #pragma unroll
 #endif
   for (int c = 0; c < N; ++c) {
-    s.near_x[c] = nx ? n.hi_x[c] : n.lo_x[c];
-    s.near_y[c] = ny ? n.hi_y[c] : n.lo_y[c];
-    s.near_z[c] = nz ? n.hi_z[c] : n.lo_z[c];
-    s.far_x[c] = nx ? n.lo_x[c] : n.hi_x[c];
-    s.far_y[c] = ny ? n.lo_y[c] : n.hi_y[c];
-    s.far_z[c] = nz ? n.lo_z[c] : n.hi_z[c];
+    s.near_x[c] = nx ? hi_x[c] : lo_x[c];
+    s.near_y[c] = ny ? hi_y[c] : lo_y[c];
+    s.near_z[c] = nz ? hi_z[c] : lo_z[c];
+    s.far_x[c] = nx ? lo_x[c] : hi_x[c];
+    s.far_y[c] = ny ? lo_y[c] : hi_y[c];
+    s.far_z[c] = nz ? lo_z[c] : hi_z[c];
   }
   return s;
 }
 
+template <int N> RT_HD inline ChildSlabs<N> slabs_of(const WideNode<N>& n, const WideRay& r) {
+  return pick_slabs(n.lo_x, n.lo_y, n.lo_z, n.hi_x, n.hi_y, n.hi_z, r);
+}
+
 // [listing:compressed_slabs]
-// The compressed node's planes: the grid coordinate of the near (far) plane picked per axis by
-// the ray's sign, then dequantised. The float planes are exactly the build's (dequantise), so
-// each box tested contains its child's exact box.
+// The compressed node's planes: every grid coordinate dequantised (one loop per coordinate,
+// so the CPU converts and scales eight at once), then the near and far planes picked as for
+// float boxes. The float planes are exactly the build's (dequantise), so each box tested
+// contains its child's exact box.
 RT_HD inline ChildSlabs<k_slots> slabs_of(const CompressedNode& n, const WideRay& r) {
-  const bool nx = r.box.negative[0], ny = r.box.negative[1], nz = r.box.negative[2];
   const float sx = grid_step(n.exponent[0]), sy = grid_step(n.exponent[1]),
               sz = grid_step(n.exponent[2]);
-  ChildSlabs<k_slots> s;
+  float lo_x[k_slots], lo_y[k_slots], lo_z[k_slots], hi_x[k_slots], hi_y[k_slots],
+      hi_z[k_slots];
 #if defined(__CUDA_ARCH__)
 #pragma unroll
 #endif
   for (int c = 0; c < k_slots; ++c) {
-    s.near_x[c] = dequantise(nx ? n.q_hi_x[c] : n.q_lo_x[c], sx, n.origin[0]);
-    s.near_y[c] = dequantise(ny ? n.q_hi_y[c] : n.q_lo_y[c], sy, n.origin[1]);
-    s.near_z[c] = dequantise(nz ? n.q_hi_z[c] : n.q_lo_z[c], sz, n.origin[2]);
-    s.far_x[c] = dequantise(nx ? n.q_lo_x[c] : n.q_hi_x[c], sx, n.origin[0]);
-    s.far_y[c] = dequantise(ny ? n.q_lo_y[c] : n.q_hi_y[c], sy, n.origin[1]);
-    s.far_z[c] = dequantise(nz ? n.q_lo_z[c] : n.q_hi_z[c], sz, n.origin[2]);
+    lo_x[c] = dequantise(n.q_lo_x[c], sx, n.origin[0]);
+    lo_y[c] = dequantise(n.q_lo_y[c], sy, n.origin[1]);
+    lo_z[c] = dequantise(n.q_lo_z[c], sz, n.origin[2]);
+    hi_x[c] = dequantise(n.q_hi_x[c], sx, n.origin[0]);
+    hi_y[c] = dequantise(n.q_hi_y[c], sy, n.origin[1]);
+    hi_z[c] = dequantise(n.q_hi_z[c], sz, n.origin[2]);
   }
-  return s;
+  return pick_slabs(lo_x, lo_y, lo_z, hi_x, hi_y, hi_z, r);
 }
 // [/listing:compressed_slabs]
 
