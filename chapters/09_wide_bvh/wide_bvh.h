@@ -199,7 +199,7 @@ struct WideStats {
   double children_per_node = 0.0;  // non-empty slots, on average
   double triangles_per_leaf = 0.0; // on average
   double sah_cost = 0.0;           // the collapse's cost model (collapse.h), over the root area
-  double build_ms = 0.0;           // the binary build, the collapse and the layout
+  double build_ms = 0.0;           // the binary build, the collapse, the stored layout
   double bytes_per_triangle = 0.0; // nodes and triangle records over the triangle count
 };
 

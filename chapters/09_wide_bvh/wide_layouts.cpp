@@ -1,6 +1,7 @@
 // Chapter 09: a collapsed tree stored as the traversal reads it: plain wide nodes, or
 // compressed nodes with their boxes quantised outward. See collapse.h.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "collapse.h"
@@ -24,9 +25,15 @@ std::vector<float4> triangle_records(const WideLayout& layout) {
   return records;
 }
 
-template <class Node> void finish(WideTree<Node>& tree, const WideLayout& layout) {
+// The triangle records and the stats, the time since `start` added to the build's.
+template <class Node>
+void finish(WideTree<Node>& tree, const WideLayout& layout,
+            std::chrono::steady_clock::time_point start) {
   tree.triangles = triangle_records(layout);
   tree.stats = layout.stats;
+  tree.stats.build_ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+          .count();
   if (!layout.triangles.empty())
     tree.stats.bytes_per_triangle =
         double(tree.nodes.size() * sizeof(Node) + tree.triangles.size() * sizeof(float4)) /
@@ -48,6 +55,7 @@ template <int N> WideTree<WideNode<N>> pack_wide(const WideLayout& layout) {
   if (layout.width > N)
     throw InputError("a layout of width " + std::to_string(layout.width) +
                      " does not fit nodes of " + std::to_string(N));
+  const auto start = std::chrono::steady_clock::now();
   WideTree<WideNode<N>> tree;
   tree.nodes.reserve(layout.nodes.size());
   for (const SlotNode& from : layout.nodes) {
@@ -69,7 +77,7 @@ template <int N> WideTree<WideNode<N>> pack_wide(const WideLayout& layout) {
     node.imask = from.imask;
     tree.nodes.push_back(node);
   }
-  finish(tree, layout);
+  finish(tree, layout, start);
   return tree;
 }
 
@@ -132,6 +140,7 @@ std::uint8_t quantise_hi(float hi, const AxisGrid& grid) {
 CompressedBvh compress(const WideLayout& layout) {
   if (layout.width > k_slots)
     throw InputError("a compressed node holds 8 children, not " + std::to_string(layout.width));
+  const auto start = std::chrono::steady_clock::now();
   CompressedBvh tree;
   tree.nodes.reserve(layout.nodes.size());
   for (const SlotNode& from : layout.nodes) {
@@ -160,7 +169,7 @@ CompressedBvh compress(const WideLayout& layout) {
     node.imask = from.imask;
     tree.nodes.push_back(node);
   }
-  finish(tree, layout);
+  finish(tree, layout, start);
   return tree;
 }
 
