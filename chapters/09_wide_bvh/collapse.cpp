@@ -305,7 +305,6 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method) {
                      std::to_string(width));
   WideLayout out;
   out.width = width;
-  out.stats.width = width;
   const Entries entries(binary);
   const std::vector<Entry>& all = entries.all();
   for (const Entry& e : all)

@@ -161,7 +161,6 @@ template <class Node> RT_HD Node load_node(const Node* p) {
 // What the traversal reads: nodes of one type, and the triangles in the order of the leaves,
 // 3 records each (chapter 08's layout: v0 and the mesh's id, v1, v2). Host or device pointers.
 template <class Node> struct WideTreeView {
-  using NodeType = Node;
   const Node* nodes = nullptr;
   const float4* triangles = nullptr;
   int node_count = 0; // 0 only for a mesh with no triangles
@@ -192,7 +191,6 @@ static_assert(k_wide_stack_size >= ch07::k_max_bvh_depth - 1,
 
 // What the report prints about a wide tree.
 struct WideStats {
-  int width = 0;
   int nodes = 0;
   int leaves = 0;
   int depth = 0;                   // deepest node (the root is at depth 0)

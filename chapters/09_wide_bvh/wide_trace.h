@@ -4,7 +4,6 @@
 // CompressedNode).
 #pragma once
 
-#include <cstddef>
 #include <span>
 
 #include "bvh_trace.h"
@@ -26,7 +25,6 @@ public:
   WideTreeView<Node> view() const {
     return {nodes_.data(), triangles_.data(), static_cast<int>(nodes_.size())};
   }
-  std::size_t bytes() const { return nodes_.bytes() + triangles_.bytes(); }
 
 private:
   DeviceBuffer<Node> nodes_;

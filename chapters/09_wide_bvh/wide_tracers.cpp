@@ -110,7 +110,6 @@ Tracer make_wide(ChapterTracer which, BinaryTrees& binary, const TracerScene& sc
 } // namespace
 
 const char* to_string(ChapterTracer tracer) { return info(tracer).name; }
-const char* option_name(ChapterTracer tracer) { return info(tracer).option; }
 
 ChapterTracer parse_tracer(std::string_view name) {
   std::string names;

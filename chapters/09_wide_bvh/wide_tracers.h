@@ -35,9 +35,8 @@ inline constexpr ChapterTracer k_all_tracers[] = {ChapterTracer::binary, Chapter
 
 // The name in report rows ("binary (ch07)", "cwbvh8 greedy", ...).
 const char* to_string(ChapterTracer tracer);
-// The name on the command line ("binary", "cwbvh8_greedy", ...).
-const char* option_name(ChapterTracer tracer);
-// Throws UsageError naming the accepted names for an unknown name.
+// The tracer of a name on the command line ("binary", "cwbvh8_greedy", ...); throws UsageError
+// naming the accepted names for an unknown one.
 ChapterTracer parse_tracer(std::string_view name);
 
 // A wide tree's build, for a report row: called once per scene and wide tracer.
