@@ -34,7 +34,7 @@ compare() { # compare NAME WINDOW_PNG HEADLESS_PNG
 if [ "${1:-}" = --model ]; then
   model="$2"
   name=$(basename "$model" .obj.gz)
-  for chapter in ch06_lambertian_shading ch07_bvh ch08_texture_memory; do
+  for chapter in ch06_lambertian_shading ch07_bvh ch08_texture_memory ch09_wide_bvh; do
     [ -x "$build/bin/$chapter" ] || continue
     "$build/bin/$chapter" --window --backend gpu --frames 5 --width 320 --height 181 \
       --scene "$model" --output "$out/window-$chapter-$name.png" --json "$out/window-$chapter-$name.json"
@@ -54,7 +54,7 @@ for path in "${paths[@]}"; do
   # Chapters 03 and 04 open the interactive viewer: interop on the GPU, upload on the CPU.
   [ "$path" = copy ] && continue
   for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading ch06_lambertian_shading \
-    ch07_bvh ch08_texture_memory; do
+    ch07_bvh ch08_texture_memory ch09_wide_bvh; do
     [ -x "$build/bin/$chapter" ] || continue
     extra=()
     scene=()
@@ -62,6 +62,7 @@ for path in "${paths[@]}"; do
     [ "$chapter" = ch06_lambertian_shading ] && extra=(--image-only)
     [ "$chapter" = ch07_bvh ] && extra=(--image-only)
     [ "$chapter" = ch08_texture_memory ] && extra=(--image-only)
+    [ "$chapter" = ch09_wide_bvh ] && extra=(--image-only)
     if [ "$chapter" = ch05_obj_loading ]; then # the small room: brute force on 100k is slow
       scene=(--scene "$(dirname "$0")/../assets/cornell_room.obj.gz")
       extra=(--scaling-max -1)

@@ -6,11 +6,11 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window models bench bench08 sass profile
+#   tests memcheck reports window models bench bench08 bench09 sass profile
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
-# memory paths. `sass` counts the load instructions of chapter 08's kernels in the machine code
+# memory paths, `bench09` chapter 09's wide trees against the binary one. `sass` counts the load instructions of chapter 08's kernels in the machine code
 # (cuobjdump); `profile` reads their cache hit rates with Nsight Compute (ncu), where it runs.
 #
 # Offline machines: run tools/gpu/fetch-debs.sh where there is internet, copy .gpu-debs/ (and
@@ -23,7 +23,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 bench09 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -110,6 +110,7 @@ if wanted memcheck; then
     [ "$name" = ch06_lambertian_shading ] && extra=(--skip-cpu)
     [ "$name" = ch07_bvh ] && extra=(--skip-cpu)
     [ "$name" = ch08_texture_memory ] && extra=(--skip-cpu --reference-rays 64)
+    [ "$name" = ch09_wide_bvh ] && extra=(--skip-cpu --reference-rays 64)
     step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
       --output "$logdir/$name-memcheck.png"
@@ -169,6 +170,11 @@ if wanted bench08 && [ -d "$models" ] && [ -x build/native/bin/ch08_texture_memo
   step bench_ch08 build/native/bin/ch08_texture_memory --backend gpu --benchmark \
     --models "$models" --json "$logdir/bench_ch08.json"
   cat "$logdir/bench_ch08.log"
+fi
+if wanted bench09 && [ -d "$models" ] && [ -x build/native/bin/ch09_wide_bvh ]; then
+  step bench_ch09 build/native/bin/ch09_wide_bvh --backend gpu --benchmark \
+    --models "$models" --json "$logdir/bench_ch09.json"
+  cat "$logdir/bench_ch09.log"
 fi
 # Chapter 08's kernels as the GPU runs them: load instructions per kernel, and cache hit rates.
 if wanted sass && [ -x build/native/bin/ch08_texture_memory ]; then

@@ -1,0 +1,194 @@
+// Chapter 09: a collapsed tree stored as the traversal reads it: plain wide nodes, or
+// compressed nodes with their boxes quantised outward. See collapse.h.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "collapse.h"
+#include "rt/error.h"
+
+namespace rt::ch09 {
+namespace {
+
+// Chapter 08's triangle records: v0 with the mesh's id in w, then v1 and v2.
+std::vector<float4> triangle_records(const WideLayout& layout) {
+  std::vector<float4> records;
+  records.reserve(layout.triangles.size() * ch08::k_triangle_records);
+  for (std::size_t k = 0; k < layout.triangles.size(); ++k) {
+    const TriangleF& t = layout.triangles[k];
+    float id;
+    std::memcpy(&id, &layout.triangle_ids[k], sizeof id);
+    records.push_back({t.v0.x, t.v0.y, t.v0.z, id});
+    records.push_back({t.v1.x, t.v1.y, t.v1.z, 0.0f});
+    records.push_back({t.v2.x, t.v2.y, t.v2.z, 0.0f});
+  }
+  return records;
+}
+
+// The triangle records and the stats, the time since `start` added to the build's.
+template <class Node>
+void finish(WideTree<Node>& tree, const WideLayout& layout,
+            std::chrono::steady_clock::time_point start) {
+  tree.triangles = triangle_records(layout);
+  tree.stats = layout.stats;
+  tree.stats.build_ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+          .count();
+  if (!layout.triangles.empty())
+    tree.stats.bytes_per_triangle =
+        double(tree.nodes.size() * sizeof(Node) + tree.triangles.size() * sizeof(float4)) /
+        double(layout.triangles.size());
+}
+
+// The non-empty slots of a node, in slot order: the positions its children take in a stored
+// node (an interior child's slot travels in its meta byte).
+int used_slots(const SlotNode& node, int (&slots)[k_slots]) {
+  int count = 0;
+  for (int s = 0; s < k_slots; ++s)
+    if (node.meta[s] != 0) slots[count++] = s;
+  return count;
+}
+
+} // namespace
+
+template <int N> WideTree<WideNode<N>> pack_wide(const WideLayout& layout) {
+  if (layout.width > N)
+    throw InputError("a layout of width " + std::to_string(layout.width) +
+                     " does not fit nodes of " + std::to_string(N));
+  const auto start = std::chrono::steady_clock::now();
+  WideTree<WideNode<N>> tree;
+  tree.nodes.reserve(layout.nodes.size());
+  for (const SlotNode& from : layout.nodes) {
+    WideNode<N> node{};
+    int slots[k_slots];
+    const int count = used_slots(from, slots);
+    for (int c = 0; c < N; ++c) {
+      const Aabb box = c < count ? from.child_box[slots[c]] : Aabb{};
+      node.lo_x[c] = box.lo.x;
+      node.lo_y[c] = box.lo.y;
+      node.lo_z[c] = box.lo.z;
+      node.hi_x[c] = box.hi.x;
+      node.hi_y[c] = box.hi.y;
+      node.hi_z[c] = box.hi.z;
+      node.meta[c] = c < count ? from.meta[slots[c]] : 0;
+    }
+    node.child_base = from.child_base;
+    node.triangle_base = from.triangle_base;
+    node.imask = from.imask;
+    tree.nodes.push_back(node);
+  }
+  finish(tree, layout, start);
+  return tree;
+}
+
+template WideTree<WideNode<4>> pack_wide<4>(const WideLayout&);
+template WideTree<WideNode<8>> pack_wide<8>(const WideLayout&);
+
+// [listing:quantise]
+// Rounding outward, and why it holds. dequantise(q) = fl(q * step + origin), and q * step is
+// exact, so dequantise(q) is the exact value q * step + origin rounded to the nearest float.
+// Rounding to nearest is monotone: x <= y implies fl(x) <= fl(y). Hence dequantise is
+// non-decreasing in q, and a binary search finds the largest q whose plane is <= lo and the
+// smallest whose plane is >= hi. Those q exist: dequantise(0) = origin = the node box's lo <=
+// every child's lo, and the grid is chosen so that dequantise(255) >= the node box's hi >=
+// every child's hi. The planes are computed by the very function the traversal calls, so the
+// box the traversal tests contains the child's exact box: no quantisation error can make a ray
+// miss a child it touches. The search is exact even where step is below a float's spacing at
+// origin (far from the origin, tiny boxes), where a plane moves only every few steps.
+AxisGrid choose_grid(float lo, float hi) {
+  if (!(lo <= hi)) throw Error("choose_grid: the box is empty");
+  const double extent = double(hi) - double(lo);
+  int e = k_min_grid_exponent;
+  if (extent > 0.0) { // from just below 2^e = extent / 255, up to the first that reaches hi
+    int estimate = 0;
+    std::frexp(extent / 255.0, &estimate);
+    e = std::max(e, estimate - 2);
+  }
+  for (;; ++e) {
+    if (e > k_max_grid_exponent)
+      throw InputError("a node spans " + std::to_string(lo) + " to " + std::to_string(hi) +
+                       ": wider than the compressed node's grid (255 * 2^" +
+                       std::to_string(k_max_grid_exponent) + ")");
+    const AxisGrid grid{lo, static_cast<std::uint8_t>(e + 127)};
+    if (dequantise(255, grid.step(), lo) >= hi) return grid;
+  }
+}
+
+std::uint8_t quantise_lo(float lo, const AxisGrid& grid) {
+  const float step = grid.step();
+  if (!(dequantise(0, step, grid.origin) <= lo)) throw Error("quantise_lo: below the grid");
+  int below = 0, above = 256; // dequantise(below) <= lo; above: past the largest such q
+  while (above - below > 1) {
+    const int mid = (below + above) / 2;
+    (dequantise(static_cast<std::uint8_t>(mid), step, grid.origin) <= lo ? below : above) = mid;
+  }
+  return static_cast<std::uint8_t>(below);
+}
+
+std::uint8_t quantise_hi(float hi, const AxisGrid& grid) {
+  const float step = grid.step();
+  if (!(dequantise(255, step, grid.origin) >= hi)) throw Error("quantise_hi: above the grid");
+  int below = -1, above = 255; // dequantise(above) >= hi; below: before the smallest such q
+  while (above - below > 1) {
+    const int mid = (below + above) / 2;
+    (dequantise(static_cast<std::uint8_t>(mid), step, grid.origin) >= hi ? above : below) = mid;
+  }
+  return static_cast<std::uint8_t>(above);
+}
+// [/listing:quantise]
+
+CompressedBvh compress(const WideLayout& layout) {
+  if (layout.width > k_slots)
+    throw InputError("a compressed node holds 8 children, not " + std::to_string(layout.width));
+  const auto start = std::chrono::steady_clock::now();
+  CompressedBvh tree;
+  tree.nodes.reserve(layout.nodes.size());
+  for (const SlotNode& from : layout.nodes) {
+    CompressedNode node{};
+    const AxisGrid grid[3] = {choose_grid(from.box.lo.x, from.box.hi.x),
+                              choose_grid(from.box.lo.y, from.box.hi.y),
+                              choose_grid(from.box.lo.z, from.box.hi.z)};
+    for (int a = 0; a < 3; ++a) {
+      node.origin[a] = grid[a].origin;
+      node.exponent[a] = grid[a].exponent;
+    }
+    int slots[k_slots];
+    const int count = used_slots(from, slots);
+    for (int c = 0; c < count; ++c) { // empty children keep q = 0 and meta 0: no bits
+      const Aabb& box = from.child_box[slots[c]];
+      node.meta[c] = from.meta[slots[c]];
+      node.q_lo_x[c] = quantise_lo(box.lo.x, grid[0]);
+      node.q_lo_y[c] = quantise_lo(box.lo.y, grid[1]);
+      node.q_lo_z[c] = quantise_lo(box.lo.z, grid[2]);
+      node.q_hi_x[c] = quantise_hi(box.hi.x, grid[0]);
+      node.q_hi_y[c] = quantise_hi(box.hi.y, grid[1]);
+      node.q_hi_z[c] = quantise_hi(box.hi.z, grid[2]);
+    }
+    node.child_base = from.child_base;
+    node.triangle_base = from.triangle_base;
+    node.imask = from.imask;
+    tree.nodes.push_back(node);
+  }
+  finish(tree, layout, start);
+  return tree;
+}
+
+template <int N> Aabb child_box_of(const WideNode<N>& node, int c) {
+  return {{node.lo_x[c], node.lo_y[c], node.lo_z[c]},
+          {node.hi_x[c], node.hi_y[c], node.hi_z[c]}};
+}
+template Aabb child_box_of<4>(const WideNode<4>&, int);
+template Aabb child_box_of<8>(const WideNode<8>&, int);
+
+Aabb child_box_of(const CompressedNode& node, int c) {
+  const float sx = grid_step(node.exponent[0]), sy = grid_step(node.exponent[1]),
+              sz = grid_step(node.exponent[2]);
+  return {{dequantise(node.q_lo_x[c], sx, node.origin[0]),
+           dequantise(node.q_lo_y[c], sy, node.origin[1]),
+           dequantise(node.q_lo_z[c], sz, node.origin[2])},
+          {dequantise(node.q_hi_x[c], sx, node.origin[0]),
+           dequantise(node.q_hi_y[c], sy, node.origin[1]),
+           dequantise(node.q_hi_z[c], sz, node.origin[2])}};
+}
+
+} // namespace rt::ch09

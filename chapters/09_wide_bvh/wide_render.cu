@@ -1,0 +1,14 @@
+// Chapter 09: shaded frames through the compressed tree. See wide_render.h.
+#include "wide_render.h"
+
+#include "bvh_render.cuh"
+
+namespace rt::ch09 {
+
+void render_wide_shaded(Backend backend, unsigned features, const CompressedSceneView& scene,
+                        const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
+                        ch06::ShadedPixelRecord* records) {
+  ch07::render_shaded_through(backend, features, scene, camera, extent, pixels, records);
+}
+
+} // namespace rt::ch09

@@ -1,0 +1,51 @@
+// Chapter 09: rays through a wide tree on CPU threads. See wide_trace.h.
+#include "wide_trace.h"
+
+#include <algorithm>
+
+#include "rt/error.h"
+#include "wide_traverse.h"
+
+namespace rt::ch09 {
+
+template <class Node>
+void trace_wide_cpu(Query query, const WideTreeView<Node>& tree, std::span<const RayF> rays,
+                    std::span<MeshHit> hits) {
+  if (hits.size() != rays.size()) throw Error("trace_wide_cpu: one hit per ray");
+  ch07::for_each_ray_cpu(rays.size(), [&](std::size_t i) {
+    const TraceHit hit = query == Query::closest ? trace_wide<Query::closest>(tree, rays[i])
+                                                 : trace_wide<Query::any>(tree, rays[i]);
+    hits[i] = {hit.t, hit.triangle};
+  });
+}
+
+template <class Node>
+ch07::TraversalWork measure_wide_work(Query query, const WideTreeView<Node>& tree,
+                                      std::span<const RayF> rays) {
+  long long nodes = 0, triangles = 0;
+  int max_stack = 0;
+  for (const RayF& ray : rays) {
+    ch07::Counters c;
+    if (query == Query::closest)
+      trace_wide<Query::closest>(tree, ray, c);
+    else
+      trace_wide<Query::any>(tree, ray, c);
+    nodes += c.nodes;
+    triangles += c.triangles;
+    max_stack = std::max(max_stack, c.max_stack);
+  }
+  const double n = rays.empty() ? 1.0 : double(rays.size());
+  return {double(nodes) / n, double(triangles) / n, max_stack};
+}
+
+#define RT_CH09_CPU_LAYOUT(Node)                                                               \
+  template void trace_wide_cpu<Node>(Query, const WideTreeView<Node>&, std::span<const RayF>,  \
+                                     std::span<MeshHit>);                                      \
+  template ch07::TraversalWork measure_wide_work<Node>(Query, const WideTreeView<Node>&,       \
+                                                       std::span<const RayF>);
+RT_CH09_CPU_LAYOUT(WideNode<4>)
+RT_CH09_CPU_LAYOUT(WideNode<8>)
+RT_CH09_CPU_LAYOUT(CompressedNode)
+#undef RT_CH09_CPU_LAYOUT
+
+} // namespace rt::ch09

@@ -1,0 +1,74 @@
+// Chapter 09: the chapter's trees as tracers for chapter 07's benchmark runner, beside the
+// binary tree they are measured against (chapter 08's kept path). A wide tree is another tree,
+// not another reading of the same one, so its hits match chapter 07's up to exact ties.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "collapse.h"
+#include "rt/report.h"
+#include "runner.h"
+#include "tracer.h"
+
+namespace rt::ch09 {
+
+using ch03::RayF;
+using ch04::MeshHit;
+using ch07::Query;
+
+// [listing:chapter_tracers]
+enum class ChapterTracer {
+  binary,        // chapter 08's kept path: chapter 07's binary tree in 16-byte records
+  wide4,         // SAH collapse to 4 children, float boxes
+  wide8,         // SAH collapse to 8 children, float boxes
+  cwbvh8,        // SAH collapse to 8 children, compressed 80-byte nodes (the paper's tree)
+  cwbvh8_greedy, // greedy collapse to 8 children, compressed
+};
+// [/listing:chapter_tracers]
+
+inline constexpr ChapterTracer k_all_tracers[] = {ChapterTracer::binary, ChapterTracer::wide4,
+                                                  ChapterTracer::wide8, ChapterTracer::cwbvh8,
+                                                  ChapterTracer::cwbvh8_greedy};
+
+// The name in report rows ("binary (ch07)", "cwbvh8 greedy", ...).
+const char* to_string(ChapterTracer tracer);
+// The tracer of a name on the command line ("binary", "cwbvh8_greedy", ...); throws UsageError
+// naming the accepted names for an unknown one.
+ChapterTracer parse_tracer(std::string_view name);
+
+// A wide tree's build, for a report row: called once per scene and wide tracer.
+using BuildSink = std::function<void(const std::string& scene, const std::string& tracer,
+                                     const WideStats& stats)>;
+
+// The tracers of `tracers` for each scene. The wide trees are built from the scene's mesh
+// with the bins of the runner's tree (binary_options), each binary tree once per scene.
+ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink on_build = {});
+
+// Each wide tree's build as a report row, like chapter 07's build row: its time, nodes, depth,
+// children per node, triangles per leaf, SAH cost and bytes per triangle.
+ReportRow build_row(const std::string& scene, const std::string& tracer,
+                    const WideStats& stats);
+
+// One of the chapter's tracers outside the runner, for the query modes (ray files, hit dumps):
+// its tree built for `mesh` (`bvh` is chapter 07's tree of it) and, on the GPU, uploaded once.
+class SingleTracer {
+public:
+  SingleTracer(ChapterTracer which, Backend backend, const ch04::Mesh& mesh,
+               const ch07::Bvh& bvh);
+  // Host rays in, host hits out, on the tracer's backend.
+  std::vector<MeshHit> trace(Query query, std::span<const RayF> rays) const;
+  const std::string& name() const { return tracer_.name; }
+
+private:
+  Backend backend_;
+  ch07::Tracer tracer_;
+};
+
+// A Markdown table of each tracer's memory per scene: bytes per triangle, nodes and triangle
+// records together, and the share of the binary tree's.
+std::string memory_table(const std::vector<ch07::SceneResult>& results);
+
+} // namespace rt::ch09

@@ -1,0 +1,235 @@
+// Chapter 09: walking a wide tree. One RT_HD function for both backends, every wide layout and
+// both queries. Each node read tests the ray against all its children's boxes at once and
+// turns the result into a 32-bit hit mask: interior children in the high byte, ordered for the
+// ray's octant, triangles in the low 24 bits. The stack holds such masks, not single nodes.
+#pragma once
+
+#include <bit>
+#include <cstdint>
+
+#include "traverse.h"
+#include "wide_bvh.h"
+
+namespace rt::ch09 {
+
+using ch03::RayF;
+using ch07::Query;
+using ch07::TraceHit;
+
+// What every node test of one ray shares: chapter 07's box ray (origin, 1/direction and the
+// signs that pick each axis's near plane) and the ray's octant, inverted.
+struct WideRay {
+  ch07::BoxRay box;
+  unsigned octant_inverse; // 7 - octant, octant bit k set where 1/direction_k < 0
+};
+
+RT_HD inline WideRay make_wide_ray(const RayF& ray) {
+  const ch07::BoxRay box = ch07::make_box_ray(ray);
+  const unsigned octant =
+      (box.negative[0] ? 1u : 0u) | (box.negative[1] ? 2u : 0u) | (box.negative[2] ? 4u : 0u);
+  return {box, 7u - octant};
+}
+
+// The planes of N child boxes, nearer plane and farther plane per axis for this ray's signs.
+template <int N> struct ChildSlabs {
+  float near_x[N], near_y[N], near_z[N];
+  float far_x[N], far_y[N], far_z[N];
+};
+
+// The near and far planes picked from boxes stored by coordinate: per axis, a ray going the
+// negative way enters at hi and leaves at lo. The choice is the same for every child (one
+// select per value, no branch).
+template <int N>
+RT_HD inline ChildSlabs<N> pick_slabs(const float (&lo_x)[N], const float (&lo_y)[N],
+                                      const float (&lo_z)[N], const float (&hi_x)[N],
+                                      const float (&hi_y)[N], const float (&hi_z)[N],
+                                      const WideRay& r) {
+  const bool nx = r.box.negative[0], ny = r.box.negative[1], nz = r.box.negative[2];
+  ChildSlabs<N> s;
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+  for (int c = 0; c < N; ++c) {
+    s.near_x[c] = nx ? hi_x[c] : lo_x[c];
+    s.near_y[c] = ny ? hi_y[c] : lo_y[c];
+    s.near_z[c] = nz ? hi_z[c] : lo_z[c];
+    s.far_x[c] = nx ? lo_x[c] : hi_x[c];
+    s.far_y[c] = ny ? lo_y[c] : hi_y[c];
+    s.far_z[c] = nz ? lo_z[c] : hi_z[c];
+  }
+  return s;
+}
+
+template <int N> RT_HD inline ChildSlabs<N> slabs_of(const WideNode<N>& n, const WideRay& r) {
+  return pick_slabs(n.lo_x, n.lo_y, n.lo_z, n.hi_x, n.hi_y, n.hi_z, r);
+}
+
+// [listing:compressed_slabs]
+// The compressed node's planes: every grid coordinate dequantised (one loop per coordinate,
+// so the CPU converts and scales eight at once), then the near and far planes picked as for
+// float boxes. The float planes are exactly the build's (dequantise), so each box tested
+// contains its child's exact box.
+RT_HD inline ChildSlabs<k_slots> slabs_of(const CompressedNode& n, const WideRay& r) {
+  const float sx = grid_step(n.exponent[0]), sy = grid_step(n.exponent[1]),
+              sz = grid_step(n.exponent[2]);
+  float lo_x[k_slots], lo_y[k_slots], lo_z[k_slots], hi_x[k_slots], hi_y[k_slots],
+      hi_z[k_slots];
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+  for (int c = 0; c < k_slots; ++c) {
+    lo_x[c] = dequantise(n.q_lo_x[c], sx, n.origin[0]);
+    lo_y[c] = dequantise(n.q_lo_y[c], sy, n.origin[1]);
+    lo_z[c] = dequantise(n.q_lo_z[c], sz, n.origin[2]);
+    hi_x[c] = dequantise(n.q_hi_x[c], sx, n.origin[0]);
+    hi_y[c] = dequantise(n.q_hi_y[c], sy, n.origin[1]);
+    hi_z[c] = dequantise(n.q_hi_z[c], sz, n.origin[2]);
+  }
+  return pick_slabs(lo_x, lo_y, lo_z, hi_x, hi_y, hi_z, r);
+}
+// [/listing:compressed_slabs]
+
+// Chapter 07's exit widening, 1 + 2 gamma(3) (Ize 2013): each slab distance below is computed
+// with the same two rounded operations from the same rounded 1/d as chapter 07's enter_box.
+inline constexpr float k_exit_widening =
+    1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+
+// [listing:child_test]
+// Chapter 07's slab test for N boxes at once: bit c of the result is set where the ray enters
+// child c within [tmin, tmax]. The same arithmetic as enter_box, box by box, so the same
+// robustness argument: NaN from 0 * inf is ignored (an origin on a slab plane counts as inside)
+// and the exit distance is widened, so a ray that touches a box in exact arithmetic is never
+// refused. The loop has no branches and reads the planes by coordinate, so on the CPU the
+// compiler tests four boxes per SSE instruction; on the GPU it is unrolled.
+template <int N>
+RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay& r, float tmin,
+                                     float tmax) {
+  using ch07::max_ignoring_nan;
+  using ch07::min_ignoring_nan;
+  bool entered[N];
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+  for (int c = 0; c < N; ++c) {
+    const float near_x = (s.near_x[c] - r.origin.x) * r.inverse.x;
+    const float near_y = (s.near_y[c] - r.origin.y) * r.inverse.y;
+    const float near_z = (s.near_z[c] - r.origin.z) * r.inverse.z;
+    const float far_x = (s.far_x[c] - r.origin.x) * r.inverse.x;
+    const float far_y = (s.far_y[c] - r.origin.y) * r.inverse.y;
+    const float far_z = (s.far_z[c] - r.origin.z) * r.inverse.z;
+    const float t_enter =
+        max_ignoring_nan(max_ignoring_nan(near_x, near_y), max_ignoring_nan(near_z, tmin));
+    const float t_exit =
+        min_ignoring_nan(min_ignoring_nan(far_x, far_y), far_z) * k_exit_widening;
+    entered[c] = t_enter <= min_ignoring_nan(t_exit, tmax);
+  }
+  unsigned mask = 0;
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+  for (int c = 0; c < N; ++c) mask |= unsigned(entered[c]) << c;
+  return mask;
+}
+// [/listing:child_test]
+
+// What one node read yields: the interior children the ray enters (bits 24..31, ordered for
+// its octant) with the node's imask in bits 0..7, and the triangles of the leaves it enters.
+struct NodeHits {
+  unsigned children; // a node group: hit bits 24..31 | imask
+  unsigned triangles;
+  int child_base;
+  int triangle_base;
+};
+
+template <class Node>
+RT_HD inline NodeHits intersect_node(const Node& n, const WideRay& r, float tmin, float tmax) {
+  const unsigned entered = enter_children(slabs_of(n, r), r.box, tmin, tmax);
+  unsigned bits = 0;
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+  for (int c = 0; c < Node::k_width; ++c)
+    bits |= (entered >> c) & 1u ? meta_bits(n.meta[c], r.octant_inverse) : 0u;
+  return {(bits & 0xff000000u) | n.imask, bits & 0x00ffffffu, n.child_base, n.triangle_base};
+}
+
+RT_HD inline int highest_bit(unsigned x) {
+#if defined(__CUDA_ARCH__)
+  return 31 - __clz(x);
+#else
+  return 31 - std::countl_zero(x);
+#endif
+}
+RT_HD inline int lowest_bit(unsigned x) {
+#if defined(__CUDA_ARCH__)
+  return __ffs(x) - 1;
+#else
+  return std::countr_zero(x);
+#endif
+}
+RT_HD inline int bit_count(unsigned x) {
+#if defined(__CUDA_ARCH__)
+  return __popc(x);
+#else
+  return std::popcount(x);
+#endif
+}
+
+// A node group on the stack: the children of one node still to visit (hit bits 24..31, the
+// highest first) and where they are (child_base, and the node's imask in bits 0..7).
+struct NodeGroup {
+  int base;
+  unsigned hits;
+};
+inline constexpr unsigned k_child_bits = 0xff000000u;
+
+// [listing:wide_traverse]
+// The closest (or any) hit of `ray` among the tree's triangles, the same as chapter 07's
+// trace_bvh up to which of two triangles at exactly the same distance is kept.
+//
+// The current node group's highest bit is the next child: its slot gives its node number
+// (child_base + the interior children in slots below it), and what is left of the group is
+// pushed before the child is read. The child's interior hits become the new group; its leaf
+// triangles are tested at once, lowest bit first. An empty group pops the next one. The root
+// starts as the only interior child, in slot 0, of a group based at node 0. Groups carry no
+// distance: one popped after a nearer hit is tested again with the shorter ray, and its
+// children's boxes reject what now lies beyond tmax.
+template <Query kQuery, class Tree, class C = ch07::NoCounters>
+RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}) {
+  TraceHit hit;
+  if (tree.node_count == 0 || !ch07::traceable(ray)) return hit;
+  const WideRay r = make_wide_ray(ray);
+  NodeGroup stack[k_wide_stack_size];
+  int stack_size = 0;
+  NodeGroup group{0, (1u << (24 + r.octant_inverse)) | 1u};
+  for (;;) {
+    if ((group.hits & k_child_bits) == 0) {
+      if (stack_size == 0) return hit;
+      group = stack[--stack_size];
+    }
+    const int bit = highest_bit(group.hits);
+    group.hits &= ~(1u << bit);
+    const unsigned slot = unsigned(bit - 24) ^ r.octant_inverse;
+    const int node = group.base + bit_count(group.hits & ((1u << slot) - 1u) & 0xffu);
+    if (group.hits & k_child_bits) {
+      stack[stack_size++] = group;
+      counters.stack(stack_size);
+    }
+    counters.node();
+    const NodeHits h = intersect_node(tree.node(node), r, ray.tmin, ray.tmax);
+    group = {h.child_base, h.children};
+    for (unsigned left = h.triangles; left != 0; left &= left - 1) {
+      const int k = h.triangle_base + lowest_bit(left);
+      counters.triangle();
+      const ch04::TriangleHitF t =
+          ch04::intersect_triangle(ch04::TriangleVariant::watertight, ray, tree.triangle(k));
+      if (!t.hit) continue;
+      hit = {t.t, tree.triangle_id(k), t.u, t.v};
+      ray.tmax = t.t;
+      if (kQuery == Query::any) return hit;
+    }
+  }
+}
+// [/listing:wide_traverse]
+
+} // namespace rt::ch09

@@ -1,0 +1,79 @@
+// Chapter 09 tests on the GPU: every wide tree's kernel gives the CPU traversal's hits bit for
+// bit (the same RT_HD code, and dequantise rounds the same on both), for closest and any hits,
+// and the shaded frame through the compressed tree is the CPU's.
+#include <cstring>
+#include <vector>
+
+#include "rt_catch.h"
+
+#include "gpu_guard.h"
+#include "rt/device_buffer.h"
+#include "shaded_render.h"
+#include "shaded_scene.h"
+#include "wide_cases.h"
+#include "wide_render.h"
+#include "wide_trace.h"
+
+using namespace rt;
+using namespace rt::ch09;
+using namespace rt::ch09::testing;
+
+namespace {
+
+template <class Node>
+int gpu_cpu_differences(const WideTree<Node>& tree, const std::vector<RayF>& rays,
+                        Query query) {
+  std::vector<MeshHit> cpu(rays.size());
+  trace_wide_cpu(query, tree.view(), rays, cpu);
+  const DeviceWideTree<Node> d_tree(tree);
+  const DeviceBuffer<RayF> d_rays{std::span<const RayF>(rays)};
+  DeviceBuffer<MeshHit> d_hits(rays.size());
+  trace_wide_gpu(query, d_tree.view(), d_rays.data(), static_cast<int>(rays.size()),
+                 d_hits.data());
+  const std::vector<MeshHit> gpu = d_hits.to_host();
+  int differ = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    differ += std::memcmp(&cpu[i], &gpu[i], sizeof(MeshHit)) != 0;
+  return differ;
+}
+
+} // namespace
+
+TEST_CASE("gpu: every wide tree gives the CPU's hits bit for bit", "[ch09][gpu]") {
+  RT_REQUIRE_GPU();
+  for (const float offset : {0.0f, 1e5f}) {
+    const Vec3f centre{offset, offset, -offset};
+    const Mesh scene = mixed_scene(3000, 41, centre);
+    const std::vector<RayF> rays = rays_for(scene, 20000, 42, centre);
+    const WideTrees trees = all_wide_trees(scene);
+    for (const Query query : {Query::closest, Query::any}) {
+      CAPTURE(offset, ch07::to_string(query));
+      CHECK(gpu_cpu_differences(trees.wide4_sah, rays, query) == 0);
+      CHECK(gpu_cpu_differences(trees.wide4_greedy, rays, query) == 0);
+      CHECK(gpu_cpu_differences(trees.wide8_sah, rays, query) == 0);
+      CHECK(gpu_cpu_differences(trees.compressed_sah, rays, query) == 0);
+      CHECK(gpu_cpu_differences(trees.compressed_greedy, rays, query) == 0);
+    }
+  }
+  CHECK(wide_kernel_registers<CompressedNode>(Query::closest) > 0);
+}
+
+TEST_CASE("gpu: the shaded frame through the compressed tree is the CPU's", "[ch09][gpu]") {
+  RT_REQUIRE_GPU();
+  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
+  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
+  const Extent extent{96, 54};
+  const ch03::Camera<float> camera =
+      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  const unsigned features = ch06::features_used(scene, true, true);
+  std::vector<Rgba8> cpu(extent.pixel_count());
+  render_wide_shaded(Backend::cpu, features,
+                     with_wide(ch06::host_view(scene, features), tree.view()), camera, extent,
+                     cpu.data());
+  const ch06::DeviceShadedScene d_scene(scene, features);
+  const DeviceWideTree<CompressedNode> d_tree(tree);
+  DeviceBuffer<Rgba8> d_pixels(extent.pixel_count());
+  render_wide_shaded(Backend::gpu, features, with_wide(d_scene.view(), d_tree.view()), camera,
+                     extent, d_pixels.data());
+  CHECK(count_differing_pixels(cpu, d_pixels.to_host()) == 0);
+}

@@ -1,0 +1,180 @@
+// Chapter 09 tests of the program itself on the CPU: the report measures every tracer on
+// every ray type and finds chapter 07's hits (in the text and the JSON), --tracer narrows it,
+// the benchmark mode on a small scene, ray files and hit dumps through the compressed tree
+// give brute force's hits, and bad input ends in one error line and a non-zero exit.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rt_catch.h"
+
+#include "run_program.h"
+
+#include "bvh_trace.h"
+#include "obj_loader.h"
+#include "protocol.h"
+#include "ray_io.h"
+
+using namespace rt;
+using namespace rt::ch07;
+
+namespace {
+
+using rt::testing::contains;
+using rt::testing::line_count;
+using rt::testing::ProgramRun;
+
+ProgramRun run_program(const std::string& arguments) {
+  return rt::testing::run_command(std::string(RT_CH09_PROGRAM) + " --headless --backend cpu " +
+                                  arguments);
+}
+
+const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
+
+} // namespace
+
+TEST_CASE("program: the report measures every tracer, each with chapter 07's hits", "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
+  const std::string json = (folder / "report.json").string();
+  const std::string image = (folder / "room.png").string();
+  const ProgramRun run = run_program("--scene " + k_room +
+                                     " --width 64 --height 36 --frames 1 --reference-rays 64 "
+                                     "--json " +
+                                     json + " --output " + image);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  for (const char* type : {"primary", "ao", "diffuse"})
+    for (const char* tracer : {"binary (ch07)", "wide4", "wide8", "cwbvh8", "cwbvh8 greedy"})
+      CHECK_THAT(run.output,
+                 contains(std::string("cornell_room, ") + type + ", " + tracer + "  "));
+  CHECK_THAT(run.output, contains("cornell_room, build cwbvh8 (CPU)"));
+  CHECK_THAT(run.output, !contains("disagree"));
+  CHECK_THAT(run.output, contains("diffuse rays, Mrays/s"));
+  CHECK(std::filesystem::file_size(image) > 100);
+
+  std::ifstream in(json);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  int traced = 0, builds = 0;
+  for (const auto& row : report.at("rows")) {
+    const std::string variant = row.at("variant").get<std::string>();
+    CAPTURE(variant);
+    CHECK(row.at("backend") == "cpu");
+    if (variant.find(", build ") != std::string::npos) {
+      CHECK(row.at("metrics").at("bytes_per_triangle").get<double>() > 0.0);
+      ++builds;
+      continue;
+    }
+    CHECK(row.at("metrics").at("differing_from_ch07").get<double>() == 0.0);
+    CHECK(row.at("metrics").at("mrays_per_s").get<double>() > 0.0);
+    ++traced;
+  }
+  CHECK(traced == 15); // 3 ray types x 5 tracers
+  CHECK(builds == 4);  // the wide trees
+}
+
+TEST_CASE("program: --tracer narrows the tracers measured", "[ch09]") {
+  const ProgramRun run = run_program("--scene " + k_room +
+                                     " --width 32 --height 18 --frames 1 --reference-rays 16 "
+                                     "--tracer cwbvh8_greedy --output ''");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("cornell_room, primary, cwbvh8 greedy"));
+  CHECK_THAT(run.output, contains("cornell_room, primary, binary (ch07)"));
+  CHECK_THAT(run.output, !contains("cornell_room, primary, wide8"));
+}
+
+TEST_CASE("program: the benchmark mode on a small scene", "[ch09]") {
+  const ProgramRun run =
+      run_program("--benchmark " + k_room + " --width 48 --height 27 --frames 1");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("| cornell_room |"));
+  CHECK_THAT(run.output, contains("diffuse rays, Mrays/s"));
+  CHECK_THAT(run.output, contains("cwbvh8 greedy"));
+  CHECK_THAT(run.output, !contains("DIFFERS"));
+}
+
+TEST_CASE("program: ray files and hit dumps through the compressed tree", "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
+  const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
+  std::vector<RayF> rays;
+  for (int i = 0; i < 500; ++i) {
+    const float a = 0.1f * i, b = 0.037f * i;
+    rays.push_back({{0.0f, 1.0f, 0.5f}, {std::cos(a) * std::cos(b), std::sin(b), std::sin(a)}});
+  }
+  rays.push_back({{0.0f, 100.0f, 0.5f}, {0.0f, 1.0f, 0.0f}}); // away from it all
+  const std::string ray_file = (folder / "rays.bin").string();
+  const std::string hit_file = (folder / "hits.bin").string();
+  write_ray_file(ray_file, rays);
+  for (const char* tracer : {"cwbvh8", "wide4", "binary"}) {
+    CAPTURE(tracer);
+    const ProgramRun run = run_program("--scene " + k_room + " --tracer " + tracer +
+                                       " --rays " + ray_file + " --hits " + hit_file);
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const std::vector<MeshHit> hits = read_hit_file(hit_file);
+    REQUIRE(hits.size() == rays.size());
+    const HitAgreement a = compare_hits(
+        hits, ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, rays));
+    CHECK(a.mismatches == 0);
+    CHECK(a.hits > 400);
+    CHECK(hits.back().triangle == -1);
+  }
+
+  // The protocol's diffuse rays from inside the room, dumped through the compressed tree.
+  const std::string primary = (folder / "primary.bin").string();
+  const std::string diffuse = (folder / "diffuse.bin").string();
+  const std::string view =
+      " --width 64 --height 48 --eye 0,1,0.9 --target 0,0.8,-1 --fov 70 --scene " + k_room;
+  REQUIRE(run_program("--dump-hits " + primary + view).exit_code == 0);
+  REQUIRE(run_program("--dump-hits " + diffuse + " --ray-type diffuse" + view).exit_code == 0);
+  const PinholeCamera camera =
+      make_protocol_camera({0.0f, 1.0f, 0.9f}, {0.0f, 0.8f, -1.0f}, 70.0f, 64, 48);
+  const std::vector<RayF> camera_rays = camera_rays_cpu(camera);
+  const auto brute =
+      ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, camera_rays);
+  CHECK(compare_hits(read_hit_file(primary), brute).mismatches == 0);
+  ch07::Aabb bounds;
+  for (const Vec3f& v : mesh.vertices) bounds.grow(v);
+  const SecondaryRays secondary =
+      secondary_rays_cpu(RayType::diffuse, mesh, brute, camera, scene_radius(bounds));
+  const auto expected = scatter_to_pixels(
+      ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, secondary.rays),
+      secondary.pixel, 64 * 48);
+  const HitAgreement a = compare_hits(read_hit_file(diffuse), expected);
+  CHECK(a.mismatches == 0);
+  CHECK(a.hits == 64 * 48); // inside a closed room every diffuse ray hits a wall
+}
+
+TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
+  const std::string hits = (folder / "hits.bin").string();
+  struct Case {
+    std::string arguments;
+    int exit_code;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"--tracer cwbvh16", 2, "the tracers are binary, wide4, wide8, cwbvh8, cwbvh8_greedy"},
+      {"--reference-rays 0", 2, "reference-rays"},
+      {"--scene " + (folder / "missing.obj").string(), 2, "missing.obj"},
+      {"--benchmark --models " + (folder / "nothing").string(), 1, "benchmark set"},
+      {k_room, 2, "--benchmark"},
+      {"--hits " + hits, 2, "--rays"},
+      {"--rays " + (folder / "missing.bin").string() + " --hits " + hits, 1, "missing.bin"},
+      {"--ray-type shiny --dump-hits " + hits, 2, "ray-type"},
+      {"--image-only --output ''", 2, "--output"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.arguments);
+    const ProgramRun run = run_program(c.arguments);
+    INFO(run.output);
+    CHECK(run.exit_code == c.exit_code);
+    CHECK(line_count(run.output) == 1);
+    CHECK_THAT(run.output, contains(c.says));
+  }
+}

@@ -1,0 +1,309 @@
+// Chapter 09 tests of the traversal on the CPU (the RT_HD code the GPU runs too): every wide
+// tree gives brute force's hits and chapter 07's on random scenes and rays, near and far from
+// the origin; the child test decides as chapter 07's enter_box does; closed meshes do not
+// leak through any tree at the origin or 1e5 away; NaN, infinite and zero-direction rays stop
+// before the first node; the stack stays within its bound; the tracers pass chapter 07's
+// runner; and chapter 06's shading through the compressed tree gives chapter 07's image.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rt_catch.h"
+
+#include "adversarial_rays.h"
+#include "bvh_build.h"
+#include "bvh_render.h"
+#include "leak_configurations.h"
+#include "run_program.h"
+#include "runner.h"
+#include "shaded_scene.h"
+#include "wide_cases.h"
+#include "wide_render.h"
+#include "wide_trace.h"
+#include "wide_tracers.h"
+
+using namespace rt;
+using namespace rt::ch09;
+using namespace rt::ch09::testing;
+
+namespace {
+
+// Chapter 07's tree and a wide tree agree: closest hits up to exact ties, the same occlusion.
+template <class Tree>
+int against_chapter07(const Tree& tree, const ch07::Bvh& bvh, const std::vector<RayF>& rays) {
+  constexpr ch04::TriangleVariant k_watertight = ch04::TriangleVariant::watertight;
+  int mismatches = 0;
+  for (const RayF& ray : rays) {
+    const TraceHit binary = ch07::trace_bvh<Query::closest, k_watertight>(bvh.view(), ray);
+    const TraceHit wide = trace<Query::closest>(tree, ray);
+    if (wide.t != binary.t || (wide.triangle < 0) != (binary.triangle < 0)) ++mismatches;
+    const bool occluded =
+        ch07::trace_bvh<Query::any, k_watertight>(bvh.view(), ray).triangle >= 0;
+    if ((trace<Query::any>(tree, ray).triangle >= 0) != occluded) ++mismatches;
+  }
+  return mismatches;
+}
+
+} // namespace
+
+TEST_CASE("wide trees give brute force's and chapter 07's hits on random scenes", "[ch09]") {
+  const Mesh scene = mixed_scene(3000, 7);
+  const std::vector<RayF> rays = rays_for(scene, 3000, 11);
+  const ch07::Bvh bvh = ch07::build_bvh(scene, {});
+  const WideTrees trees = all_wide_trees(scene);
+  for_each_tree(trees, [&](const char* name, const auto& view) {
+    CAPTURE(name);
+    const Agreement a = against_brute_force(view, scene, rays);
+    CHECK(a.closest_mismatches == 0);
+    CHECK(a.any_mismatches == 0);
+    CHECK(a.hits > 2000); // the rays do meet the scene
+    CHECK(against_chapter07(view, bvh, rays) == 0);
+  });
+}
+
+TEST_CASE("far from the origin the wide trees still agree with brute force", "[ch09]") {
+  for (const float offset : {1e4f, 1e5f, 1e6f}) {
+    const Vec3f centre{offset, -offset, 0.5f * offset};
+    const Mesh scene = mixed_scene(1500, 21, centre);
+    const std::vector<RayF> rays = rays_for(scene, 2000, 23, centre);
+    const WideTrees trees = all_wide_trees(scene);
+    for_each_tree(trees, [&](const char* name, const auto& view) {
+      CAPTURE(offset, name);
+      const Agreement a = against_brute_force(view, scene, rays);
+      CHECK(a.closest_mismatches == 0);
+      CHECK(a.any_mismatches == 0);
+      CHECK(a.hits > 500);
+    });
+  }
+}
+
+TEST_CASE("the child test decides as chapter 07's enter_box, box by box", "[ch09]") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> pick(0, 9);
+  const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::denorm_min()};
+  int tested = 0, entered = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    // Eight boxes on a coarse grid (shared faces, flat boxes) and a ray that may lie on them.
+    WideNode<8> node{};
+    for (int c = 0; c < 8; ++c) {
+      const float a = std::round(unit(rng) * 4.0f) * 0.5f,
+                  b = std::round(unit(rng) * 4.0f) * 0.5f;
+      node.lo_x[c] = std::min(a, b);
+      node.hi_x[c] = std::max(a, b);
+      node.lo_y[c] = std::round(unit(rng) * 2.0f) * 0.5f;
+      node.hi_y[c] = node.lo_y[c] + std::round(std::abs(unit(rng)) * 2.0f) * 0.5f;
+      node.lo_z[c] = unit(rng);
+      node.hi_z[c] = node.lo_z[c] + std::abs(unit(rng));
+    }
+    // From a point on the coarse grid towards one of the boxes, or anywhere.
+    const Vec3f o{std::round(unit(rng) * 6.0f) * 0.5f, std::round(unit(rng) * 6.0f) * 0.5f,
+                  unit(rng) * 3.0f};
+    const int aim = pick(rng) % 8;
+    const Vec3f centre{0.5f * (node.lo_x[aim] + node.hi_x[aim]),
+                       0.5f * (node.lo_y[aim] + node.hi_y[aim]),
+                       0.5f * (node.lo_z[aim] + node.hi_z[aim])};
+    Vec3f d = pick(rng) < 7 ? centre - o : Vec3f{unit(rng), unit(rng), unit(rng)};
+    if (pick(rng) < 3) d.x = special[pick(rng) % 5];
+    if (pick(rng) < 3) d.y = special[pick(rng) % 5];
+    if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) d.z = 1.0f;
+    const RayF ray{o, d, 0.0f, pick(rng) < 2 ? 1.5f : k_inf};
+    const WideRay r = make_wide_ray(ray);
+    const unsigned mask = enter_children(slabs_of(node, r), r.box, ray.tmin, ray.tmax);
+    for (int c = 0; c < 8; ++c) {
+      float t = 0.0f;
+      const bool expected =
+          ch07::enter_box(child_box_of(node, c), r.box, ray.tmin, ray.tmax, t);
+      CAPTURE(trial, c);
+      CHECK(((mask >> c) & 1u) == (expected ? 1u : 0u));
+      entered += expected;
+      ++tested;
+    }
+  }
+  CHECK(tested == 32000);
+  CHECK(entered > 3000); // the boxes are entered often enough to mean something
+}
+
+TEST_CASE("no ray leaks out of a closed mesh through a wide tree", "[ch09]") {
+  // Chapter 04's adversarial rays at vertices and edges, from inside closed meshes at the
+  // origin and 1e5 away: the watertight test's promise must survive quantised boxes.
+  for (const ch04::LeakConfiguration& config : ch04::k_leak_configurations) {
+    const Mesh mesh = config.make_mesh();
+    const std::vector<RayF> rays = ch04::rays_at_vertices_and_edges(
+        mesh, config.inside(), config.spread, 20000, config.seed);
+    const WideTrees trees = all_wide_trees(mesh);
+    for_each_tree(trees, [&](const char* name, const auto& view) {
+      CAPTURE(config.name, name);
+      int leaks = 0;
+      for (const RayF& ray : rays) leaks += trace<Query::closest>(view, ray).triangle < 0;
+      CHECK(leaks == 0);
+      int any_leaks = 0;
+      for (const RayF& ray : rays) any_leaks += trace<Query::any>(view, ray).triangle < 0;
+      CHECK(any_leaks == 0);
+    });
+  }
+}
+
+TEST_CASE("NaN, infinite and zero-direction rays miss before the first node read", "[ch09]") {
+  const Mesh scene = mixed_scene(500, 9);
+  const WideTrees trees = all_wide_trees(scene);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const RayF bad[] = {
+      {{nan, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}},
+      {{0.0f, 0.0f, -20.0f}, {0.0f, nan, 1.0f}},
+      {{k_inf, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}},
+      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, -k_inf}},
+      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 0.0f}},
+      {{0.0f, 0.0f, -20.0f}, {-0.0f, -0.0f, -0.0f}},
+      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 1.0f}, nan, k_inf},
+      {{0.0f, 0.0f, -20.0f}, {0.0f, 0.0f, 1.0f}, 0.0f, nan},
+  };
+  for_each_tree(trees, [&](const char* name, const auto& view) {
+    for (const RayF& ray : bad) {
+      CAPTURE(name);
+      ch07::Counters closest, any;
+      CHECK(trace<Query::closest>(view, ray, closest).triangle == -1);
+      CHECK(trace<Query::any>(view, ray, any).triangle == -1);
+      CHECK(closest.nodes + any.nodes == 0); // not one node read
+      CHECK(closest.triangles + any.triangles == 0);
+    }
+    // An infinite tmax is an ordinary ray, and it hits.
+    ch07::Counters c;
+    const TraceHit hit = trace<Query::closest>(
+        view, RayF{{2.0f, 0.5f, -20.0f}, {0.0f, 0.0f, 1.0f}, 0.0f, k_inf}, c);
+    CHECK(hit.triangle >= 0);
+    CHECK(c.nodes > 0);
+  });
+}
+
+TEST_CASE("the stack stays within its bound on a lopsided tree", "[ch09]") {
+  // Triangles growing geometrically along x: chapter 07's binned SAH can only peel the largest
+  // one or two off at each level, so its tree is as deep as its depth bound lets it be.
+  Mesh chain;
+  float x = 1.0f;
+  for (int i = 0; i < 200; ++i, x *= 1.3f) {
+    const int base = static_cast<int>(chain.vertices.size());
+    const float s = 0.2f * x;
+    chain.vertices.push_back({x - s, -s, 0.0f});
+    chain.vertices.push_back({x + s, -s, 0.1f * s});
+    chain.vertices.push_back({x, s, -0.1f * s});
+    chain.triangles.push_back({base, base + 1, base + 2});
+  }
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> pick(0, 199);
+  std::vector<RayF> rays;
+  for (int i = 0; i < 2000; ++i) { // from in front of the chain at random triangles' centres
+    const auto& t = chain.triangles[pick(rng)];
+    const Vec3f target =
+        (chain.vertices[t.v0] + chain.vertices[t.v1] + chain.vertices[t.v2]) / 3.0f;
+    const Vec3f o{target.x * (1.0f + 0.1f * unit(rng)), target.x * 0.1f * unit(rng),
+                  -target.x * (1.0f + unit(rng) * unit(rng))};
+    rays.push_back({o, target - o});
+  }
+  const ch07::Bvh binary = ch07::build_bvh(chain, binary_options(Collapse::sah, {}));
+  REQUIRE(binary.stats.depth > 24); // lopsided indeed: a balanced tree of 200 has depth 8
+  const WideTrees trees = all_wide_trees(chain);
+  const auto check = [&](const char* name, const auto& tree) {
+    CAPTURE(name, tree.stats.depth);
+    CHECK(tree.stats.depth <= binary.stats.depth); // a wide node is a binary node
+    REQUIRE(tree.stats.depth <= k_wide_stack_size);
+    const ch07::TraversalWork work = measure_wide_work(Query::closest, tree.view(), rays);
+    CHECK(work.max_stack <= tree.stats.depth);
+    CHECK(work.nodes_per_ray > 0.0);
+    const Agreement a = against_brute_force(tree.view(), chain, rays);
+    CHECK(a.closest_mismatches == 0);
+    CHECK(a.any_mismatches == 0);
+    CHECK(a.hits > 1500);
+  };
+  check("wide4 sah", trees.wide4_sah);
+  check("wide4 greedy", trees.wide4_greedy);
+  check("wide8 sah", trees.wide8_sah);
+  check("cwbvh8 sah", trees.compressed_sah);
+  check("cwbvh8 greedy", trees.compressed_greedy);
+}
+
+TEST_CASE("the batch functions give the traversal's hits on CPU threads", "[ch09]") {
+  const Mesh scene = mixed_scene(1000, 13);
+  const std::vector<RayF> rays = rays_for(scene, 1000, 14);
+  const CompressedBvh tree = compress(build_wide_layout(scene, 8, Collapse::sah));
+  for (const Query query : {Query::closest, Query::any}) {
+    std::vector<MeshHit> hits(rays.size(), MeshHit{-1.0f, 12345});
+    trace_wide_cpu(query, tree.view(), rays, hits);
+    int differ = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const TraceHit one = query == Query::closest ? trace<Query::closest>(tree.view(), rays[i])
+                                                   : trace<Query::any>(tree.view(), rays[i]);
+      differ += hits[i].triangle != one.triangle || !(hits[i].t == one.t || one.triangle < 0);
+    }
+    CHECK(differ == 0);
+  }
+  const ch07::TraversalWork closest = measure_wide_work(Query::closest, tree.view(), rays);
+  const ch07::TraversalWork any = measure_wide_work(Query::any, tree.view(), rays);
+  CHECK(any.nodes_per_ray <= closest.nodes_per_ray);
+  CHECK(closest.triangles_per_ray < 100.0); // brute force: about 5 000
+}
+
+TEST_CASE("the runner accepts every tracer of the chapter on the CPU", "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09_runner");
+  const std::string path = (folder / "scene.obj").string();
+  {
+    const Mesh scene = mixed_scene(400, 31);
+    std::ofstream out(path);
+    for (const Vec3f& v : scene.vertices)
+      out << "v " << v.x << " " << v.y << " " << v.z << "\n";
+    for (const auto& t : scene.triangles)
+      out << "f " << t.v0 + 1 << " " << t.v1 + 1 << " " << t.v2 + 1 << "\n";
+  }
+  ch07::RunnerOptions options;
+  options.extent = {48, 27};
+  options.backend = Backend::cpu;
+  options.frames = 1;
+  options.check_rays = 256;
+  options.count_work = true;
+  std::vector<std::string> built;
+  const auto on_build = [&](const std::string&, const std::string& tracer, const WideStats&) {
+    built.push_back(tracer);
+  };
+  Report report("chapter 09 runner test", "Mrays/s", "chapter 07's hits");
+  const ch07::SceneResult result = ch07::run_scene(
+      {path}, {chapter_tracers({std::begin(k_all_tracers), std::end(k_all_tracers)}, on_build)},
+      options, report);
+  CHECK(result.problems == 0);
+  CHECK(built.size() == 4); // the wide trees, once each
+  for (const ChapterTracer tracer : k_all_tracers)
+    for (const ch07::RayType type :
+         {ch07::RayType::primary, ch07::RayType::ao, ch07::RayType::diffuse}) {
+      CAPTURE(to_string(tracer), ch07::to_string(type));
+      const ch07::TracerFigure* f = result.find(to_string(tracer), type);
+      REQUIRE(f != nullptr);
+      CHECK(f->disagreeing == 0);
+      CHECK(f->mrays > 0.0);
+      CHECK(f->bytes_per_triangle > 0.0);
+    }
+}
+
+TEST_CASE("chapter 06's shading through the compressed tree gives chapter 07's image",
+          "[ch09]") {
+  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
+  const ch07::Bvh bvh = ch07::build_bvh(scene.mesh, {});
+  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
+  const Extent extent{96, 54};
+  const ch03::Camera<float> camera =
+      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  for (const bool smooth : {false, true}) {
+    const unsigned features = ch06::features_used(scene, smooth, true);
+    const ch06::SceneView view = ch06::host_view(scene, features);
+    std::vector<Rgba8> binary(extent.pixel_count()), wide(extent.pixel_count());
+    ch07::render_bvh_shaded(Backend::cpu, features, ch07::with_bvh(view, bvh.view()), camera,
+                            extent, binary.data());
+    render_wide_shaded(Backend::cpu, features, with_wide(view, tree.view()), camera, extent,
+                       wide.data());
+    CAPTURE(smooth);
+    CHECK(count_differing_pixels(binary, wide) == 0);
+  }
+}
