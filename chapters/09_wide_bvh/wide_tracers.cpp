@@ -162,27 +162,6 @@ ReportRow build_row(const std::string& scene, const std::string& tracer, const W
            {"bytes_per_triangle", s.bytes_per_triangle}}};
 }
 
-SingleTracer::SingleTracer(ChapterTracer which, Backend backend, const ch04::Mesh& mesh,
-                           const ch07::Bvh& bvh)
-    : backend_(backend) {
-  const ch07::PinholeCamera unused_camera{}; // none of these tracers makes its own rays
-  const ch07::TracerScene scene{"", mesh, bvh, unused_camera, backend};
-  tracer_ = std::move(chapter_tracers({which})(scene).front());
-}
-
-std::vector<MeshHit> SingleTracer::trace(Query query, std::span<const RayF> rays) const {
-  std::vector<MeshHit> hits(rays.size());
-  if (backend_ == Backend::cpu) {
-    tracer_.trace_cpu(query, rays, hits);
-  } else if (!rays.empty()) {
-    const DeviceBuffer<RayF> d_rays(rays);
-    DeviceBuffer<MeshHit> d_hits(rays.size());
-    tracer_.trace_gpu(query, d_rays.data(), static_cast<int>(rays.size()), d_hits.data());
-    d_hits.download(hits);
-  }
-  return hits;
-}
-
 std::string memory_table(const std::vector<ch07::SceneResult>& results) {
   std::ostringstream out;
   out << "\nbytes per triangle (nodes and triangle records; in brackets: against "

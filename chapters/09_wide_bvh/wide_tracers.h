@@ -52,21 +52,6 @@ ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink 
 ReportRow build_row(const std::string& scene, const std::string& tracer,
                     const WideStats& stats);
 
-// One of the chapter's tracers outside the runner, for the query modes (ray files, hit dumps):
-// its tree built for `mesh` (`bvh` is chapter 07's tree of it) and, on the GPU, uploaded once.
-class SingleTracer {
-public:
-  SingleTracer(ChapterTracer which, Backend backend, const ch04::Mesh& mesh,
-               const ch07::Bvh& bvh);
-  // Host rays in, host hits out, on the tracer's backend.
-  std::vector<MeshHit> trace(Query query, std::span<const RayF> rays) const;
-  const std::string& name() const { return tracer_.name; }
-
-private:
-  Backend backend_;
-  ch07::Tracer tracer_;
-};
-
 // A Markdown table of each tracer's memory per scene: bytes per triangle, nodes and triangle
 // records together, and the share of the binary tree's.
 std::string memory_table(const std::vector<ch07::SceneResult>& results);

@@ -99,13 +99,16 @@ inline constexpr float k_exit_widening =
 // child c within [tmin, tmax]. The same arithmetic as enter_box, box by box, so the same
 // robustness argument: NaN from 0 * inf is ignored (an origin on a slab plane counts as inside)
 // and the exit distance is widened, so a ray that touches a box in exact arithmetic is never
-// refused. The loop has no branches and reads the planes by coordinate, so on the CPU the
-// compiler tests four boxes per SSE instruction; on the GPU it is unrolled.
+// refused; tmax is widened by chapter 07's k_tmax_slack, so no box of a triangle the
+// triangle test hits before tmax is refused either. The loop has no branches and reads the
+// planes by coordinate, so on the CPU the compiler tests four boxes per SSE instruction; on the
+// GPU it is unrolled.
 template <int N>
 RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay& r, float tmin,
                                      float tmax) {
   using ch07::max_ignoring_nan;
   using ch07::min_ignoring_nan;
+  const float tmax_kept = tmax * ch07::k_tmax_slack; // chapter 07's slack on the nearest hit
   bool entered[N];
 #if defined(__CUDA_ARCH__)
 #pragma unroll
@@ -121,7 +124,7 @@ RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay&
         max_ignoring_nan(max_ignoring_nan(near_x, near_y), max_ignoring_nan(near_z, tmin));
     const float t_exit =
         min_ignoring_nan(min_ignoring_nan(far_x, far_y), far_z) * k_exit_widening;
-    entered[c] = t_enter <= min_ignoring_nan(t_exit, tmax);
+    entered[c] = t_enter <= min_ignoring_nan(t_exit, tmax_kept);
   }
   unsigned mask = 0;
 #if defined(__CUDA_ARCH__)
