@@ -233,8 +233,8 @@ TEST_CASE("the rays a pixel traces: one in the sky, more where mirrors bounce it
   CHECK(reference.rays > extent.pixel_count());
 }
 
-TEST_CASE("scaled by 2^20 the scene renders the same image; a fixed 1e-4 offset then speckles "
-          "the mirror",
+TEST_CASE("scaled by 2^20 the scene renders the same image, and a fixed 1e-4 offset then "
+          "speckles the mirror",
           "[ch03]") {
   const Extent extent{160, 90};
   const CameraSpec spec;
