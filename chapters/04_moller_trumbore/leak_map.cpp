@@ -28,12 +28,11 @@ bool project(const ch03::PinholeCamera<float>& camera, Vec3f p, int& i, int& j,
 }
 
 // One mesh of the leak test, seen from outside, with its leaked rays' targets marked.
-Image leak_panel(TriangleVariant variant, const LeakConfiguration& configuration,
-                 int ray_count, Extent panel) {
+Image leak_panel(TriangleVariant variant, const LeakConfiguration& configuration, int ray_count,
+                 Extent panel) {
   const Mesh mesh = configuration.make_mesh();
-  const std::vector<AimedRay> aimed =
-      aimed_rays(mesh, configuration.inside(), configuration.spread, ray_count,
-                 configuration.seed);
+  const std::vector<AimedRay> aimed = aimed_rays(
+      mesh, configuration.inside(), configuration.spread, ray_count, configuration.seed);
   std::vector<RayF> rays;
   rays.reserve(aimed.size());
   for (const AimedRay& a : aimed) rays.push_back(a.ray);
@@ -59,8 +58,7 @@ Image leak_panel(TriangleVariant variant, const LeakConfiguration& configuration
     const int reach = aimed[r].at_vertex ? 2 : 0; // vertices as 5x5 squares
     for (int y = j - reach; y <= j + reach; ++y)
       for (int x = i - reach; x <= i + reach; ++x)
-        if (x >= 0 && x < panel.width && y >= 0 && y < panel.height)
-          image.at(x, y) = mark;
+        if (x >= 0 && x < panel.width && y >= 0 && y < panel.height) image.at(x, y) = mark;
   }
   return image;
 }
