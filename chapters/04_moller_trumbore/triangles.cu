@@ -30,9 +30,8 @@ struct DeviceMesh {
   }
 };
 
-} // namespace
-
-LeakCount summarize(const std::vector<HitTally>& tallies) {
+// What the tallies of a batch of rays add up to.
+LeakCount count_tallies(const std::vector<HitTally>& tallies) {
   LeakCount count;
   count.rays = static_cast<long long>(tallies.size());
   for (const HitTally& tally : tallies) {
@@ -42,6 +41,8 @@ LeakCount summarize(const std::vector<HitTally>& tallies) {
   }
   return count;
 }
+
+} // namespace
 
 std::vector<MeshHit> closest_hits_gpu(TriangleVariant variant, const Mesh& mesh,
                                       const std::vector<RayF>& rays) {
@@ -80,7 +81,7 @@ void DeviceLeakTest::launch(TriangleVariant variant) {
   });
 }
 
-LeakCount DeviceLeakTest::count() const { return summarize(tallies_.to_host()); }
+LeakCount DeviceLeakTest::count() const { return count_tallies(tallies_.to_host()); }
 
 LeakCount count_leaks_gpu(TriangleVariant variant, const Mesh& mesh,
                           const std::vector<RayF>& rays) {
@@ -100,7 +101,7 @@ std::vector<HitTally> tally_hits_cpu(TriangleVariant variant, const Mesh& mesh,
 
 LeakCount count_leaks_cpu(TriangleVariant variant, const Mesh& mesh,
                           const std::vector<RayF>& rays) {
-  return summarize(tally_hits_cpu(variant, mesh, rays));
+  return count_tallies(tally_hits_cpu(variant, mesh, rays));
 }
 
 } // namespace rt::ch04

@@ -87,8 +87,6 @@ struct LeakCount {
   long long non_finite = 0;  // rays with an accepted hit whose t, u or v is NaN or infinite
 };
 
-LeakCount summarize(const std::vector<HitTally>& tallies);
-
 std::vector<MeshHit> closest_hits_gpu(TriangleVariant variant, const Mesh& mesh,
                                       const std::vector<RayF>& rays);
 std::vector<MeshHit> closest_hits_cpu(TriangleVariant variant, const Mesh& mesh,
