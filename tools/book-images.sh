@@ -12,22 +12,50 @@ bin="build/$preset/bin"
 img=book/images
 mkdir -p "$img"
 
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+
 # Chapter 01: 200x120 pixels in blocks of 16x16; neither side is a multiple of 16, so the grid
-# hangs over both edges and the flat offset check wraps rows.
+# hangs over both edges and the flat offset check wraps rows. The diagram: a grid of blocks
+# over an image.
 "$bin/ch01_kernel_launch" --backend cpu --width 200 --height 120 --block 16x16 --frames 1 \
   --output "$img/01_block_pattern.png" --flat-output "$img/01_flat_offset_check.png"
+python3 tools/diagrams/ch01.py "$img"
 
-# Chapter 02: the animation's frame 119 at 480x270, headless.
+# Chapter 02: the animation's frame 119 at 480x270, headless, and the same frame torn over
+# frame 118 (the picture of reading the buffer while the kernel writes it). The diagrams: the
+# three display paths across the bus, and the pixel buffer's life.
 "$bin/ch02_pbo_interop" --headless --backend cpu --width 480 --height 270 --frames 120 \
-  --output "$img/02_frame.png"
+  --output "$img/02_frame.png" --torn-output "$img/02_torn_frame.png"
+python3 tools/diagrams/ch02.py "$img"
 
-# Chapter 03: the default scene at 960x540 with the stable test (mirror depth 4).
+# Chapter 03: the default scene at 960x540 with the stable test (mirror depth 4). Failures:
+# the farthest moon (1:3 000) zoomed in, through the textbook and the stable test; mirror rays
+# started a fixed 1e-4 off the surface, with the scene scaled by 2^20 (a power of two, so that
+# only the offset changes), and the scaled offset for comparison. The diagram: the stable
+# test's geometry.
 "$bin/ch03_spheres" --headless --backend cpu --width 960 --height 540 --frames 1 \
   --output "$img/03_spheres.png" >/dev/null
+for variant in textbook stable; do
+  "$bin/ch03_spheres" --headless --backend cpu --width 320 --height 180 --frames 1 \
+    --target 3000,2500,-30000 --fov 0.05 --variant "$variant" \
+    --output "$img/03_far_moon_$variant.png" >/dev/null
+done
+"$bin/ch03_spheres" --headless --backend cpu --width 480 --height 270 --frames 1 \
+  --scale 1048576 --fixed-offset 1e-4 --output "$img/03_acne_fixed_offset.png" >/dev/null
+"$bin/ch03_spheres" --headless --backend cpu --width 480 --height 270 --frames 1 \
+  --scale 1048576 --output "$img/03_acne_scaled_offset.png" >/dev/null
+python3 tools/diagrams/ch03.py "$img"
 
-# Chapter 04: the demo scene at 960x540 with the watertight test.
+# Chapter 04: the demo scene at 960x540 with the watertight test; where a million rays aimed
+# at the vertices and edges of each closed mesh leak through Moller-Trumbore (the report of
+# that run is a small one); the diagram of the watertight test's frame.
 "$bin/ch04_moller_trumbore" --headless --backend cpu --width 960 --height 540 --frames 1 \
   --leak-rays 1000 --output "$img/04_triangles.png" >/dev/null
+"$bin/ch04_moller_trumbore" --headless --backend cpu --width 32 --height 18 --frames 1 \
+  --variant moller-trumbore --leak-map "$img/04_leaks_moller_trumbore.png" \
+  --output "$scratch/04_small.png" >/dev/null
+python3 tools/diagrams/ch04.py "$img"
 
 # Chapter 05: the course's 100 000-triangle torus knot, framed automatically, brute force on the
 # CPU (minutes on a few cores); the report traces a small sample only.

@@ -125,10 +125,36 @@ Image render_image(Backend backend, Extent extent, BlockShape block) {
   });
 }
 
-Image render_first_kernel_image(Extent extent, BlockShape block) {
-  return render_into_image(Backend::gpu, extent, [&](Rgba8* d_image) {
-    launch_first_kernel(d_image, extent, block);
-  });
+// [listing:first_frame_by_hand]
+FirstFrame render_first_frame_by_hand(Extent image, BlockShape block) {
+  const std::size_t bytes = static_cast<std::size_t>(image.pixel_count()) * sizeof(Rgba8);
+  FirstFrame frame{Image(image.width, image.height), 0.0f};
+  for (Rgba8& p : frame.image.pixels) p = {0xCD, 0xCD, 0xCD, 0xCD}; // poison: shows gaps
+  Rgba8* d_image = nullptr;                    // device memory: the GPU's own DRAM
+  cudaEvent_t start = nullptr, stop = nullptr; // time stamps the GPU itself takes
+  cudaError_t status = cudaMalloc(&d_image, bytes);
+  if (status == cudaSuccess) // host -> device, over the bus
+    status = cudaMemcpy(d_image, frame.image.pixels.data(), bytes, cudaMemcpyHostToDevice);
+  if (status == cudaSuccess) status = cudaEventCreate(&start);
+  if (status == cudaSuccess) status = cudaEventCreate(&stop);
+  if (status == cudaSuccess) {
+    cudaEventRecord(start); // queued on the default stream...
+    first_kernel<<<dim3(blocks_to_cover(image.width, block.x),
+                        blocks_to_cover(image.height, block.y)),
+                   dim3(block.x, block.y)>>>(d_image, image.width, image.height);
+    cudaEventRecord(stop);       // ...after the kernel: all three calls return at once
+    status = cudaGetLastError(); // a launch that could not start says so here
+  }
+  if (status == cudaSuccess) status = cudaEventSynchronize(stop); // the CPU waits here
+  if (status == cudaSuccess) status = cudaEventElapsedTime(&frame.kernel_ms, start, stop);
+  if (status == cudaSuccess) // device -> host: the kernel's pixels
+    status = cudaMemcpy(frame.image.pixels.data(), d_image, bytes, cudaMemcpyDeviceToHost);
+  if (stop != nullptr) cudaEventDestroy(stop); // released on every path, failed or not
+  if (start != nullptr) cudaEventDestroy(start);
+  cudaFree(d_image);
+  RT_CUDA_CHECK(status);
+  return frame;
 }
+// [/listing:first_frame_by_hand]
 
 } // namespace rt::ch01

@@ -68,6 +68,14 @@ WriteAudit audit_writes(std::span<const unsigned> counts_with_guard, Extent imag
 
 // Whole images, for the demo and the tests.
 Image render_image(Backend backend, Extent image, BlockShape block);
-Image render_first_kernel_image(Extent image, BlockShape block);
+
+// 4. The hand-written kernel's frame with every CUDA call written out: allocation, the copies
+// both ways, the launch and its timing with events. The rest of the course lets common/ do
+// these steps (DeviceBuffer, CudaEvent, time_gpu).
+struct FirstFrame {
+  Image image;     // what the kernel wrote over a poisoned buffer
+  float kernel_ms; // the first launch, measured by events: no warm-up before it
+};
+FirstFrame render_first_frame_by_hand(Extent image, BlockShape block);
 
 } // namespace rt::ch01

@@ -22,6 +22,29 @@ Image render_frame_image(Backend backend, Extent extent, int frame) {
       backend, extent, [&](Rgba8* pixels) { render_frame(backend, pixels, extent, frame); });
 }
 
+Image torn_frame(Extent extent, int frame) {
+  const Image before = render_frame_image(Backend::cpu, extent, frame - 1);
+  const Image after = render_frame_image(Backend::cpu, extent, frame);
+  const BlockShape block{}; // the launch helper's 16x16
+  const int blocks_per_row = blocks_to_cover(extent.width, block.x);
+  const int warps_per_block = block.x * block.y / 32;
+  Image picture(2 * extent.width, extent.height);
+  for (int y = 0; y < extent.height; ++y)
+    for (int x = 0; x < extent.width; ++x) {
+      const int block_index = (y / block.y) * blocks_per_row + x / block.x;
+      const int warp_in_block = ((y % block.y) * block.x + x % block.x) / 32;
+      const std::uint32_t warp = std::uint32_t(block_index * warps_per_block + warp_in_block);
+      const bool written = ((warp * 2654435761u) >> 31) == 0u;
+      const Rgba8 shown = written ? after.at(x, y) : before.at(x, y);
+      const Rgba8 dim{std::uint8_t(shown.r / 3), std::uint8_t(shown.g / 3),
+                      std::uint8_t(shown.b / 3), 255};
+      picture.at(x, y) = shown;
+      picture.at(extent.width + x, y) =
+          shown == after.at(x, y) ? dim : Rgba8{255, 255, 255, 255};
+    }
+  return picture;
+}
+
 GlPixelBuffer::GlPixelBuffer(std::size_t bytes) : bytes_(bytes) {
   RT_GL_CHECK(glGenBuffers(1, &id_));
   RT_GL_CHECK(glBindBuffer(GL_PIXEL_UNPACK_BUFFER, id_));

@@ -17,6 +17,13 @@ void render_frame(Backend backend, Rgba8* pixels, Extent extent, int frame);
 // One frame as a host image (the CPU reference, or a GPU frame copied back).
 Image render_frame_image(Backend backend, Extent extent, int frame);
 
+// What a read of the pixel buffer while a kernel still writes it could return: each warp of
+// the launch (32 threads: two rows of a 16x16 block) has written frame `frame` or not yet,
+// and the pixels it has not reached still hold frame - 1. Which warps have finished is not
+// fixed; the picture lets about half of them finish, chosen by a hash. Two panels: the torn
+// frame, and its pixels that differ from frame `frame` in white (the rest dimmed).
+Image torn_frame(Extent extent, int frame);
+
 // A GL pixel buffer object (PBO) of `bytes` bytes, owned.
 class GlPixelBuffer {
 public:

@@ -24,6 +24,7 @@ struct ChapterOptions {
   CommonOptions common;
   DisplayChoice display;
   std::string path = "all"; // all, interop, copy, cpu
+  std::string torn_output;  // --torn-output: the picture of a frame read while it is written
 };
 
 constexpr int k_default_frames = 120;
@@ -78,6 +79,10 @@ void run_headless(const ChapterOptions& options, Backend backend, Report& report
   if (!options.common.output.empty()) // frame N-1, as the window's last frame
     write_output_image(options.common.output, render_frame_image(backend, extent, frames - 1),
                        "frame " + std::to_string(frames - 1));
+  if (!options.torn_output.empty())
+    write_output_image(options.torn_output, torn_frame(extent, frames - 1),
+                       "frame " + std::to_string(frames - 1) + " torn over frame " +
+                           std::to_string(frames - 2));
 }
 
 // The window: each display path's last frame on screen against the CPU's frame.
@@ -132,7 +137,13 @@ int main(int argc, char** argv) {
   app.add_option("--path", options.path, "Display path(s) in the window")
       ->check(CLI::IsMember({"all", "interop", "copy", "cpu"}))
       ->capture_default_str();
+  app.add_option("--torn-output", options.torn_output,
+                 "Headless: also write a torn frame, half its warps' pixels still the frame "
+                 "before (what reading the buffer during the kernel's write could show)");
   app.footer("Window keys: Esc quits, S saves a screenshot, V toggles vsync, P changes the "
              "display path. With --frames N the window runs N frames per path and closes.");
-  return run_main(app, argc, argv, options.common, [&] { return run(options); });
+  return run_main(app, argc, argv, options.common, [&] {
+    if (!options.torn_output.empty()) check_image_path(options.torn_output);
+    return run(options);
+  });
 }

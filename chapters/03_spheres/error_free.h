@@ -10,6 +10,7 @@ namespace rt::ch03 {
 
 // x*y rounded on its own: on the device __fmul_rn is never fused into a following add. Host
 // compilers on x86-64 emit no FMA unless -march asks for one, so plain x*y is already rounded.
+// [listing:rounded_product]
 RT_HD inline float rounded_product(float x, float y) {
 #if RT_ON_DEVICE
   return __fmul_rn(x, y);
@@ -17,6 +18,7 @@ RT_HD inline float rounded_product(float x, float y) {
   return x * y;
 #endif
 }
+// [/listing:rounded_product]
 RT_HD inline double rounded_product(double x, double y) {
 #if RT_ON_DEVICE
   return __dmul_rn(x, y);
@@ -31,6 +33,7 @@ template <class T> struct ValueAndError {
   T error;
 };
 
+// [listing:error_free]
 // Knuth's TwoSum: fl(a + b) and its exact rounding error, with additions only.
 template <class T> RT_HD inline ValueAndError<T> two_sum(T a, T b) {
   const T sum = a + b;
@@ -44,5 +47,6 @@ template <class T> RT_HD inline ValueAndError<T> two_product(T a, T b) {
   const T product = rounded_product(a, b);
   return {product, fused_multiply_add(a, b, -product)};
 }
+// [/listing:error_free]
 
 } // namespace rt::ch03

@@ -20,25 +20,40 @@ using namespace rt::ch03;
 struct ChapterOptions : ProgramOptions {
   int max_depth = 4;
   SphereVariant image_variant = SphereVariant::stable;
+  double scale = 1.0;        // every length of the scene and the camera's eye and target
+  float fixed_offset = 0.0f; // > 0: mirror rays start this far off the surface
 };
+
+CameraSpec scaled(CameraSpec camera, double factor) {
+  camera.eye = camera.eye * factor;
+  camera.target = camera.target * factor;
+  return camera;
+}
 
 int run(const ChapterOptions& options) {
   validate_camera(options.camera);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
-  const SphereScene<float> scene = make_default_scene();
+  const SphereScene<float> scene = make_default_scene().scaled(float(options.scale));
+  const CameraSpec camera = scaled(options.camera, options.scale);
   Report report =
       start_report("Chapter 03: spheres", "Mrays/s", "float64 reference (CPU)", backend);
   report.add_context(
       "image", to_string(options.common.extent()) + ", " +
                    (options.camera.kind == CameraKind::pinhole ? "pinhole" : "orthographic") +
                    " camera, mirror depth " + std::to_string(options.max_depth));
-  report.add_context("scene", "ground sphere r=1e5, 3 spheres, 3 moons at r/D 1/300..1/3000");
+  report.add_context("scene", "ground sphere r=1e5, 3 spheres, 3 moons at r/D 1/300..1/3000" +
+                                  (options.scale != 1.0
+                                       ? ", scaled by " + format_scientific(options.scale)
+                                       : std::string()));
+  if (options.fixed_offset > 0.0f)
+    report.add_context("mirror rays", "start " + format_scientific(options.fixed_offset) +
+                                          " off the surface (a fixed offset)");
 
-  const RenderSettings settings{options.image_variant, options.max_depth};
+  const TraceSettings settings{options.image_variant, options.max_depth, options.fixed_offset};
   const ProgramParts parts{
       .chapter = "ch03",
       .window_title = "spheres",
-      .camera = options.camera,
+      .camera = camera,
       .render =
           [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
             render_spheres(b, scene, make_camera<float>(spec, extent), extent, settings,
@@ -55,8 +70,8 @@ int run(const ChapterOptions& options) {
           },
       .measure =
           [&](Report& rows) {
-            report_sphere_variants(backend, scene, options.camera, options.common.extent(),
-                                   options.max_depth, options.common.frames, rows);
+            report_sphere_variants(backend, scene, camera, options.common.extent(), settings,
+                                   options.common.frames, rows);
           },
       .image_note = to_string(options.image_variant),
   };
@@ -80,5 +95,13 @@ int main(int argc, char** argv) {
                                                {"stable", SphereVariant::stable}},
           CLI::ignore_case))
       ->default_str("stable");
+  app.add_option("--scale", options.scale,
+                 "Multiply every length of the scene, and the camera's eye and target, by this")
+      ->check(finite_range(1e-3, 1e7))
+      ->capture_default_str();
+  app.add_option("--fixed-offset", options.fixed_offset,
+                 "Start mirror rays this far off the surface (a fixed epsilon) instead of the "
+                 "offset that scales with the hit point")
+      ->check(finite_range(0.0, 1.0));
   return run_program_main(app, argc, argv, options, [&] { return run(options); });
 }

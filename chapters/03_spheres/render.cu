@@ -10,17 +10,16 @@ namespace rt::ch03 {
 
 // [listing:render_spheres]
 void render_spheres(Backend backend, const SphereScene<float>& scene,
-                    const Camera<float>& camera, Extent extent, RenderSettings settings,
+                    const Camera<float>& camera, Extent extent, TraceSettings settings,
                     Rgba8* pixels, PixelRecord* records) {
   const int width = extent.width;
   // The scene and camera are captured by value: they travel as kernel arguments.
   for_each_pixel(backend, extent, [=] RT_HD(int x, int y) {
-    const PixelTrace<float> traced =
-        trace_pixel(scene, camera, x, y, settings.variant, settings.max_depth);
+    const PixelTrace<float> traced = trace_pixel(scene, camera, x, y, settings);
     const int index = y * width + x;
     pixels[index] = to_rgba8(traced.colour);
     if (records != nullptr)
-      records[index] = {traced.t, traced.sphere, has_nan(traced.colour) ? 1 : 0};
+      records[index] = {traced.t, traced.sphere, has_nan(traced.colour) ? 1 : 0, traced.rays};
   });
 }
 // [/listing:render_spheres]
@@ -32,14 +31,17 @@ ReferenceFrame render_reference(const SphereScene<float>& scene, const CameraSpe
   ReferenceFrame reference{Image(extent.width, extent.height),
                            std::vector<double>(extent.pixel_count()),
                            std::vector<int>(extent.pixel_count())};
+  std::vector<int> rays(extent.pixel_count());
   for_each_pixel_cpu(extent, [&](int x, int y) {
     const PixelTrace<double> traced =
-        trace_pixel(scene64, camera, x, y, SphereVariant::stable, max_depth);
+        trace_pixel(scene64, camera, x, y, TraceSettings{SphereVariant::stable, max_depth});
     const std::size_t index = static_cast<std::size_t>(y) * extent.width + x;
     reference.image.pixels[index] = to_rgba8(traced.colour);
     reference.t[index] = traced.t;
     reference.sphere[index] = traced.sphere;
+    rays[index] = traced.rays;
   });
+  for (const int pixel_rays : rays) reference.rays += pixel_rays;
   return reference;
 }
 

@@ -10,6 +10,7 @@
 #include "rt/image.h"
 #include "scene.h"
 #include "spheres.h"
+#include "trace.h"
 
 namespace rt::ch03 {
 
@@ -18,17 +19,13 @@ struct PixelRecord {
   float t;    // hit distance; infinity for none
   int sphere; // -1 for none
   int nan;    // 1 if the pixel's colour came out NaN
-};
-
-struct RenderSettings {
-  SphereVariant variant = SphereVariant::stable;
-  int max_depth = 4; // mirror bounces after the primary ray
+  int rays;   // rays the pixel traced: the primary ray and its mirror rays
 };
 
 // Fills extent.width * extent.height pixels (device memory for the GPU backend, host memory
 // for the CPU one); records, if not null, lives in the same memory space.
 void render_spheres(Backend backend, const SphereScene<float>& scene,
-                    const Camera<float>& camera, Extent extent, RenderSettings settings,
+                    const Camera<float>& camera, Extent extent, TraceSettings settings,
                     Rgba8* pixels, PixelRecord* records = nullptr);
 
 // The same scene in float64 on the CPU, with the stable intersection, tracing the float
@@ -37,6 +34,7 @@ struct ReferenceFrame {
   Image image;
   std::vector<double> t;   // per pixel, the primary hit distance
   std::vector<int> sphere; // per pixel, the sphere hit, or -1
+  long long rays = 0;      // rays traced, primary and mirror
 };
 ReferenceFrame render_reference(const SphereScene<float>& scene, const CameraSpec& camera,
                                 Extent extent, int max_depth);

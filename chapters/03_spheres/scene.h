@@ -10,7 +10,7 @@ namespace rt::ch03 {
 struct Material {
   Vec3f colour;           // linear RGB in [0, 1]
   float reflectivity = 0; // share of the colour that comes from the mirror direction
-  bool checkered = false; // a 1x1 checkerboard on x, z (shows where hit points land)
+  bool checkered = false; // a checkerboard on x, z (shows where hit points land)
 };
 
 // A handful of spheres, held by value: the whole scene travels to the GPU as a kernel
@@ -20,6 +20,7 @@ template <class T> struct SphereScene {
   Sphere<T> spheres[k_max_spheres];
   Material materials[k_max_spheres];
   int count = 0;
+  T square = T(1); // the checkerboard's square: grows with the scene's scale
 
   void add(Sphere<T> sphere, Material material) {
     spheres[count] = sphere;
@@ -33,6 +34,16 @@ template <class T> struct SphereScene {
     for (int i = 0; i < count; ++i)
       out.add({spheres[i].centre.template as<U>(), static_cast<U>(spheres[i].radius)},
               materials[i]);
+    out.square = static_cast<U>(square);
+    return out;
+  }
+  // The same scene with every length multiplied by `factor`: the stiff cases of rounding at
+  // another scale, with the same picture.
+  SphereScene scaled(T factor) const {
+    SphereScene out;
+    for (int i = 0; i < count; ++i)
+      out.add({spheres[i].centre * factor, spheres[i].radius * factor}, materials[i]);
+    out.square = square * factor;
     return out;
   }
 };

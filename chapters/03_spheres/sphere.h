@@ -35,6 +35,7 @@ template <class T> RT_HD inline SphereHit<T> nearest_root_in_range(T near, T far
 // sum are kept as value + exact error (Ogita, Rump & Oishi's Dot2). Computed plainly, the
 // products round at the scale of |o - c|^2, and when the ray starts close to a large sphere
 // (an eye above a ground sphere, a shadow ray leaving a surface) the result is all noise.
+// [listing:power_of_point]
 template <class T> RT_HD inline T power_of_point(Vec3<T> centre_to_origin, T radius) {
   const ValueAndError<T> xx = two_product(centre_to_origin.x, centre_to_origin.x);
   const ValueAndError<T> yy = two_product(centre_to_origin.y, centre_to_origin.y);
@@ -48,6 +49,7 @@ template <class T> RT_HD inline T power_of_point(Vec3<T> centre_to_origin, T rad
   error += sum.error - rr.error;
   return sum.value + error;
 }
+// [/listing:power_of_point]
 
 // The textbook form: a t^2 + b t + c = 0 and b^2 - 4ac. For a sphere at distance D, b^2 and
 // 4ac are both about 4 D^2 and their difference, about 4 r^2, is what remains after

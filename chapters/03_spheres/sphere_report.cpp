@@ -11,7 +11,7 @@
 namespace rt::ch03 {
 namespace {
 
-ReportRow error_row(std::string variant, Backend backend, const Timing& timing, Extent extent,
+ReportRow error_row(std::string variant, Backend backend, const Timing& timing, long long rays,
                     const FrameError& e) {
   const std::string text =
       group_digits(e.pixels_differing) + " px differ, " + group_digits(e.false_hits) +
@@ -20,21 +20,21 @@ ReportRow error_row(std::string variant, Backend backend, const Timing& timing, 
   return {std::move(variant),
           to_string(backend),
           timing.median_ms,
-          extent.pixel_count() / (timing.median_ms * 1e3),
+          double(rays) / (timing.median_ms * 1e3),
           text,
           {{"pixels_differing", double(e.pixels_differing)},
            {"false_hits", double(e.false_hits)},
            {"false_misses", double(e.false_misses)},
            {"max_relative_t_error", e.max_relative_t_error},
-           {"nan_pixels", double(e.nan_pixels)}}};
+           {"nan_pixels", double(e.nan_pixels)},
+           {"rays", double(rays)}}};
 }
 
 // One variant on one backend: timed, then compared with the reference.
-ReportRow measure(SphereVariant variant, Backend backend, const SphereScene<float>& scene,
-                  const CameraSpec& spec, Extent extent, int max_depth, int frames,
+ReportRow measure(TraceSettings settings, Backend backend, const SphereScene<float>& scene,
+                  const CameraSpec& spec, Extent extent, int frames,
                   const ReferenceFrame& reference) {
   const Camera<float> camera = make_camera<float>(spec, extent);
-  const RenderSettings settings{variant, max_depth};
   Image image(extent.width, extent.height);
   std::vector<PixelRecord> records(image.pixels.size());
   Timing timing;
@@ -59,28 +59,35 @@ ReportRow measure(SphereVariant variant, Backend backend, const SphereScene<floa
         },
         frames);
   }
-  return error_row(to_string(variant), backend, timing, extent,
+  long long rays = 0;
+  for (const PixelRecord& record : records) rays += record.rays;
+  return error_row(to_string(settings.variant), backend, timing, rays,
                    compare_with_reference(image, records, reference));
 }
 
 } // namespace
 
 void report_sphere_variants(Backend backend, const SphereScene<float>& scene,
-                            const CameraSpec& spec, Extent extent, int max_depth, int frames,
-                            Report& report) {
+                            const CameraSpec& spec, Extent extent, TraceSettings settings,
+                            int frames, Report& report) {
   ReferenceFrame reference;
-  const Timing reference_time =
-      time_cpu([&] { reference = render_reference(scene, spec, extent, max_depth); }, {0, 1});
+  const Timing reference_time = time_cpu(
+      [&] { reference = render_reference(scene, spec, extent, settings.max_depth); }, {0, 1});
+  report.add_context("rays", group_digits(extent.pixel_count()) + " primary + " +
+                                 group_digits(reference.rays - extent.pixel_count()) +
+                                 " mirror rays a frame (float64 reference)");
   std::vector<Backend> backends;
   if (backend == Backend::gpu) backends.push_back(Backend::gpu);
   backends.push_back(Backend::cpu);
   for (Backend b : backends)
-    for (SphereVariant variant : {SphereVariant::textbook, SphereVariant::stable})
-      report.add_row(measure(variant, b, scene, spec, extent, max_depth, frames, reference));
+    for (SphereVariant variant : {SphereVariant::textbook, SphereVariant::stable}) {
+      settings.variant = variant;
+      report.add_row(measure(settings, b, scene, spec, extent, frames, reference));
+    }
   report.add_row({"float64 reference (stable)",
                   "cpu",
                   reference_time.median_ms,
-                  extent.pixel_count() / (reference_time.median_ms * 1e3),
+                  double(reference.rays) / (reference_time.median_ms * 1e3),
                   "reference",
                   {}});
 }

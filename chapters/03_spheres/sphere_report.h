@@ -7,12 +7,15 @@
 #include "rt/launch.h"
 #include "rt/report.h"
 #include "scene.h"
+#include "trace.h"
 
 namespace rt::ch03 {
 
 // Rows for both variants on `backend` (and the CPU after the GPU), then the reference's row.
+// `settings` gives the mirror depth and the spawn offset; each row sets its own variant. The
+// throughput counts every ray a frame traced, mirror rays included.
 void report_sphere_variants(Backend backend, const SphereScene<float>& scene,
-                            const CameraSpec& spec, Extent extent, int max_depth, int frames,
-                            Report& report);
+                            const CameraSpec& spec, Extent extent, TraceSettings settings,
+                            int frames, Report& report);
 
 } // namespace rt::ch03

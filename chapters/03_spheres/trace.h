@@ -42,28 +42,38 @@ template <class T> RT_HD Vec3<T> sky_colour(Vec3<T> unit_direction) {
   return Vec3<T>{T(1), T(1), T(1)} * (T(1) - s) + Vec3<T>{T(0.45), T(0.65), T(1)} * s;
 }
 
-// A unit checkerboard on the x-z plane: where hit points land, made visible.
-template <class T> RT_HD bool dark_square(Vec3<T> p) {
-  const long long cell =
-      static_cast<long long>(std::floor(p.x)) + static_cast<long long>(std::floor(p.z));
+// A checkerboard of squares of side `square` on the x-z plane: where hit points land, made
+// visible.
+template <class T> RT_HD bool dark_square(Vec3<T> p, T square) {
+  const long long cell = static_cast<long long>(std::floor(p.x / square)) +
+                         static_cast<long long>(std::floor(p.z / square));
   return (cell & 1) != 0;
 }
+
+// How a pixel is traced.
+struct TraceSettings {
+  SphereVariant variant = SphereVariant::stable;
+  int max_depth = 4;         // mirror bounces after the primary ray
+  float fixed_offset = 0.0f; // > 0: mirror rays start at p + fixed_offset * n instead
+};
 
 template <class T> struct PixelTrace {
   Vec3<T> colour; // linear RGB
   T t;            // the primary ray's hit distance (infinity: none)
   int sphere;     // the sphere the primary ray hit, or -1
+  int rays;       // rays traced: the primary ray and its mirror rays
 };
 
 // [listing:trace_pixel]
 template <class T, class Cam>
 RT_HD PixelTrace<T> trace_pixel(const SphereScene<T>& scene, const Cam& camera, int i, int j,
-                                SphereVariant variant, int max_depth) {
+                                TraceSettings settings) {
   Ray<T> ray = camera.ray_through_pixel(i, j);
   Vec3<T> colour{}, weight{T(1), T(1), T(1)};
   PixelTrace<T> out{};
-  for (int depth = 0;; ++depth) {
-    const SceneHit<T> hit = closest_sphere(scene, ray, variant);
+  int depth = 0;
+  for (;; ++depth) {
+    const SceneHit<T> hit = closest_sphere(scene, ray, settings.variant);
     if (depth == 0) out.t = hit.t, out.sphere = hit.sphere;
     const Vec3<T> d = normalize(ray.direction);
     if (hit.sphere < 0) {
@@ -76,16 +86,20 @@ RT_HD PixelTrace<T> trace_pixel(const SphereScene<T>& scene, const Cam& camera, 
     Vec3<T> n = (p - sphere.centre) / sphere.radius;
     if (dot(n, d) > T(0)) n = -n; // the ray is inside: face the normal towards it
     Vec3<T> base = material.colour.as<T>();
-    if (material.checkered && dark_square(p)) base = base * T(0.3);
-    const T mirror = depth < max_depth ? T(material.reflectivity) : T(0);
+    if (material.checkered && dark_square(p, scene.square)) base = base * T(0.3);
+    const T mirror = depth < settings.max_depth ? T(material.reflectivity) : T(0);
     const T facing = -dot(n, d);
     colour += weight * base * ((T(1) - mirror) * (T(0.25) + T(0.75) * facing));
     if (mirror == T(0)) break;
     weight = weight * base * mirror; // a tinted mirror
-    // The mirror ray starts off the surface by an amount that scales with p (spawn.h).
-    ray = {offset_ray_origin(p, n), d - n * (T(2) * dot(d, n))};
+    // The mirror ray starts off the surface by an amount that scales with p (spawn.h), or
+    // by the fixed epsilon that the picture of acne asks for.
+    const Vec3<T> from = settings.fixed_offset > 0.0f ? p + n * T(settings.fixed_offset)
+                                                      : offset_ray_origin(p, n);
+    ray = {from, d - n * (T(2) * dot(d, n))};
   }
   out.colour = colour;
+  out.rays = depth + 1;
   return out;
 }
 // [/listing:trace_pixel]

@@ -12,25 +12,33 @@ namespace rt::ch04 {
 
 using ch03::RayF;
 
+// A ray of the leak test and what it was aimed at (for the picture of where rays leak).
+struct AimedRay {
+  RayF ray;
+  Vec3f target;   // the vertex or the point of an edge
+  bool at_vertex; // else at an edge
+};
+
 // `count` rays from random points within `spread` of `inside` (that whole ball must lie inside
 // the mesh): a third aimed at vertices, the rest at random points of random edges. Targets
 // and directions are rounded to float like any ray's, so each ray passes within an ulp or so
 // of its vertex or edge: exactly where the two variants round differently.
-inline std::vector<RayF> rays_at_vertices_and_edges(const Mesh& mesh, Vec3f inside,
-                                                    float spread, int count, unsigned seed) {
+inline std::vector<AimedRay> aimed_rays(const Mesh& mesh, Vec3f inside, float spread, int count,
+                                        unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f), along(0.0f, 1.0f);
   std::uniform_int_distribution<int> pick_vertex(0, int(mesh.vertices.size()) - 1);
   std::uniform_int_distribution<int> pick_triangle(0, int(mesh.triangles.size()) - 1);
   std::uniform_int_distribution<int> pick_edge(0, 2), pick_kind(0, 2);
-  std::vector<RayF> rays;
+  std::vector<AimedRay> rays;
   rays.reserve(count);
   while (static_cast<int>(rays.size()) < count) {
     const Vec3f jitter{unit(rng), unit(rng), unit(rng)};
     if (!(length_squared(jitter) <= 1.0f)) continue; // uniform in the ball
     const Vec3f origin = inside + jitter * spread;
     Vec3f target;
-    if (pick_kind(rng) == 0) {
+    const bool at_vertex = pick_kind(rng) == 0;
+    if (at_vertex) {
       target = mesh.vertices[pick_vertex(rng)];
     } else {
       const IndexedTriangle& t = mesh.triangles[pick_triangle(rng)];
@@ -39,8 +47,18 @@ inline std::vector<RayF> rays_at_vertices_and_edges(const Mesh& mesh, Vec3f insi
       const Vec3f b = mesh.vertices[edge == 0 ? t.v1 : edge == 1 ? t.v2 : t.v0];
       target = a + (b - a) * along(rng);
     }
-    rays.push_back(RayF{origin, target - origin});
+    rays.push_back({RayF{origin, target - origin}, target, at_vertex});
   }
+  return rays;
+}
+
+// The same rays without their targets.
+inline std::vector<RayF> rays_at_vertices_and_edges(const Mesh& mesh, Vec3f inside,
+                                                    float spread, int count, unsigned seed) {
+  std::vector<RayF> rays;
+  rays.reserve(count);
+  for (const AimedRay& aimed : aimed_rays(mesh, inside, spread, count, seed))
+    rays.push_back(aimed.ray);
   return rays;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "camera_cli.h"
+#include "leak_map.h"
 #include "mesh_render.h"
 #include "program.h"
 #include "rt/program_output.h"
@@ -24,6 +25,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   double translate = 0.0; // the scene and the camera, moved along (1, 1, 1)
   int subdivisions = 2;
   int leak_rays = 1'000'000;
+  std::string leak_map; // --leak-map: where the leak test's rays leak, as a picture
   TriangleVariant image_variant = TriangleVariant::watertight;
 };
 
@@ -42,6 +44,7 @@ std::string describe_scene(const TriangleScene& scene, double translate) {
 
 int run(const ChapterOptions& options) {
   ch03::validate_camera(options.camera);
+  if (!options.leak_map.empty()) check_image_path(options.leak_map);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
   const Vec3d offset{options.translate, options.translate, options.translate};
   const TriangleScene scene = make_demo_scene(options.subdivisions, offset);
@@ -52,7 +55,8 @@ int run(const ChapterOptions& options) {
   report.add_context("scene", describe_scene(scene, options.translate));
   report.add_context("leak rows", std::to_string(options.leak_rays) +
                                       " rays each from inside a closed mesh at its vertices "
-                                      "and edges; ms/frame column: ms per million rays");
+                                      "and edges; ms/frame column: ms per million rays "
+                                      "(GPU: the kernel alone)");
 
   std::optional<DeviceTriangleScene> d_scene; // uploaded for the first GPU frame
   const ch03::ProgramParts parts{
@@ -86,7 +90,12 @@ int run(const ChapterOptions& options) {
           },
       .image_note = to_string(options.image_variant),
   };
-  return ch03::run_window_or_headless(options, backend, parts, report);
+  const int status = ch03::run_window_or_headless(options, backend, parts, report);
+  if (!options.leak_map.empty())
+    write_output_image(options.leak_map,
+                       leak_map(options.image_variant, options.leak_rays, {480, 360}),
+                       std::string("where rays leak, ") + to_string(options.image_variant));
+  return status;
 }
 
 } // namespace
@@ -111,6 +120,8 @@ int main(int argc, char** argv) {
   app.add_option("--leak-rays", options.leak_rays, "Rays per leak configuration")
       ->check(CLI::Range(1, 100'000'000))
       ->capture_default_str();
+  app.add_option("--leak-map", options.leak_map,
+                 "Also write where the leak test's rays leak through --variant's test (CPU)");
   add_triangle_variant_option(app, options.image_variant);
   return ch03::run_program_main(app, argc, argv, options, [&] { return run(options); });
 }

@@ -60,9 +60,11 @@ template <class T> RT_HD TriangleHit<T> intersect_moller_trumbore(Ray<T> ray, Tr
 
 // Woop, Benthin & Wald 2013, "Watertight Ray/Triangle Intersection", two-sided. The vertices
 // move into a frame where the ray is the +z axis from the origin; then the hit test is three
-// 2D edge functions of the moved vertices. A vertex shared by two triangles moves to the same
-// point in both (same ray, same arithmetic), and an edge function computed with an exact sign
-// has exactly opposite signs in the two triangles of a shared edge: no ray passes between.
+// 2D edge functions of the moved vertices. A vertex shared by several triangles moves to the
+// same point in all of them (same ray, same arithmetic), so the moved triangles still form a
+// closed mesh; with edge functions of exact sign the test is then the exact point-in-triangle
+// test on that mesh, which covers the origin at a shared edge and at a shared vertex alike.
+// [listing:watertight_frame]
 template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangle<T> tri) {
   // 1. Permute the axes so that z is the direction's largest component (no division by a
   // small number), swapping x and y when z is negative to keep the winding.
@@ -91,13 +93,16 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   const T by = fused_multiply_add(-shear_y, b[kz], b[ky]);
   const T cx = fused_multiply_add(-shear_x, c[kz], c[kx]);
   const T cy = fused_multiply_add(-shear_y, c[kz], c[ky]);
+  // [/listing:watertight_frame]
   // 3. Edge functions: twice the signed areas of the triangles the origin makes with each
-  // edge. The paper recomputes one in double when float gives exactly 0, because a plainly
-  // rounded a*b - c*d can come out 0, or with the wrong sign, when the products nearly cancel
-  // (and nvcc's contraction fma(a, b, -c*d) rounds the two triangles of an edge differently).
-  // difference_of_products is within 2 ulps of the exact value (Jeannerod, Louvet & Muller
-  // 2013), so its sign is the exact sign and it is 0 only when the exact value is: no fallback
-  // is needed while the products stay clear of float underflow (coordinates above ~1e-15).
+  // edge. Two triangles sharing an edge evaluate the same 2x2 determinant with its rows
+  // swapped. A plainly rounded a*b - c*d gives them exactly opposite values, but nvcc contracts
+  // it to fma(a, b, -c*d), which rounds the two differently, and then both can come out on the
+  // outside. difference_of_products has a relative error below 2u (Jeannerod, Louvet & Muller
+  // 2013): its two values differ in the last bits, but each has the exact sign, whatever the
+  // contraction setting, and is 0 only when the exact value is. The paper instead recomputes
+  // an edge function in double when float gives exactly 0. Exact signs hold while the products
+  // stay clear of float underflow (coordinates above ~1e-15).
   // [listing:watertight_edges]
   const T u_edge = difference_of_products(cx, by, cy, bx); // edge v1 v2: weight of v0
   const T v_edge = difference_of_products(ax, cy, ay, cx); // edge v2 v0: weight of v1
@@ -108,6 +113,7 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   const T det = u_edge + v_edge + w_edge;
   if (det == T(0)) return {}; // the ray lies in the plane, or the triangle is a segment
   // [/listing:watertight_edges]
+  // [listing:watertight_distance]
   // 4. Distance: interpolate the moved z coordinates, scaled back to units of d. The sum is
   // fused explicitly, as above: nvcc would contract it on the GPU and not on the CPU, and the
   // two backends would round t differently.
@@ -119,5 +125,6 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   if (!(t > ray.tmin && t < ray.tmax)) return {};
   return {true, t, v_edge * inv_det, w_edge * inv_det};
 }
+// [/listing:watertight_distance]
 
 } // namespace rt::ch04

@@ -30,7 +30,8 @@ struct DeviceMesh {
   }
 };
 
-LeakCount summarize(const std::vector<HitTally>& tallies) {
+// What the tallies of a batch of rays add up to.
+LeakCount count_tallies(const std::vector<HitTally>& tallies) {
   LeakCount count;
   count.rays = static_cast<long long>(tallies.size());
   for (const HitTally& tally : tallies) {
@@ -66,27 +67,41 @@ std::vector<MeshHit> closest_hits_cpu(TriangleVariant variant, const Mesh& mesh,
   return hits;
 }
 
-LeakCount count_leaks_gpu(TriangleVariant variant, const Mesh& mesh,
-                          const std::vector<RayF>& rays) {
-  const DeviceMesh d_mesh(mesh);
-  const DeviceBuffer<RayF> d_rays{std::span<const RayF>(rays)};
-  DeviceBuffer<HitTally> d_tallies(rays.size());
-  const MeshView view = d_mesh.view();
-  const RayF* ray_in = d_rays.data();
-  HitTally* tally_out = d_tallies.data();
-  for_each_ray_gpu(static_cast<int>(rays.size()), [=] __device__(int i) {
+DeviceLeakTest::DeviceLeakTest(const Mesh& mesh, const std::vector<RayF>& rays)
+    : vertices_(std::span<const Vec3f>(mesh.vertices)),
+      triangles_(std::span<const IndexedTriangle>(mesh.triangles)),
+      rays_(std::span<const RayF>(rays)), tallies_(rays.size()) {}
+
+void DeviceLeakTest::launch(TriangleVariant variant) {
+  const MeshView view{vertices_.data(), triangles_.data(), static_cast<int>(triangles_.size())};
+  const RayF* ray_in = rays_.data();
+  HitTally* tally_out = tallies_.data();
+  for_each_ray_gpu(static_cast<int>(rays_.size()), [=] __device__(int i) {
     tally_out[i] = tally_hits(variant, view, ray_in[i]);
   });
-  return summarize(d_tallies.to_host());
 }
 
-LeakCount count_leaks_cpu(TriangleVariant variant, const Mesh& mesh,
+LeakCount DeviceLeakTest::count() const { return count_tallies(tallies_.to_host()); }
+
+LeakCount count_leaks_gpu(TriangleVariant variant, const Mesh& mesh,
                           const std::vector<RayF>& rays) {
+  DeviceLeakTest test(mesh, rays);
+  test.launch(variant);
+  return test.count();
+}
+
+std::vector<HitTally> tally_hits_cpu(TriangleVariant variant, const Mesh& mesh,
+                                     const std::vector<RayF>& rays) {
   std::vector<HitTally> tallies(rays.size());
   const MeshView view = host_view(mesh);
   for_each_ray_cpu(static_cast<int>(rays.size()),
                    [&](int i) { tallies[i] = tally_hits(variant, view, rays[i]); });
-  return summarize(tallies);
+  return tallies;
+}
+
+LeakCount count_leaks_cpu(TriangleVariant variant, const Mesh& mesh,
+                          const std::vector<RayF>& rays) {
+  return count_tallies(tally_hits_cpu(variant, mesh, rays));
 }
 
 } // namespace rt::ch04

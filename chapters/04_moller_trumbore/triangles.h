@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mesh_gen.h"
+#include "rt/device_buffer.h"
 #include "triangle.h"
 
 namespace rt::ch04 {
@@ -90,8 +91,28 @@ std::vector<MeshHit> closest_hits_gpu(TriangleVariant variant, const Mesh& mesh,
                                       const std::vector<RayF>& rays);
 std::vector<MeshHit> closest_hits_cpu(TriangleVariant variant, const Mesh& mesh,
                                       const std::vector<RayF>& rays);
+
+// The leak test on the GPU, in steps, so that the kernel alone can be timed: the mesh and the
+// rays are uploaded once, each launch writes one tally per ray in device memory, and count()
+// copies the tallies of the last launch back.
+class DeviceLeakTest {
+public:
+  DeviceLeakTest(const Mesh& mesh, const std::vector<RayF>& rays);
+  void launch(TriangleVariant variant); // queues the kernel only: no allocation, no copy
+  LeakCount count() const;
+
+private:
+  DeviceBuffer<Vec3f> vertices_;
+  DeviceBuffer<IndexedTriangle> triangles_;
+  DeviceBuffer<RayF> rays_;
+  DeviceBuffer<HitTally> tallies_;
+};
+
 LeakCount count_leaks_gpu(TriangleVariant variant, const Mesh& mesh,
                           const std::vector<RayF>& rays);
+// Every ray's tally (the picture of where rays leak needs them one by one), and their count.
+std::vector<HitTally> tally_hits_cpu(TriangleVariant variant, const Mesh& mesh,
+                                     const std::vector<RayF>& rays);
 LeakCount count_leaks_cpu(TriangleVariant variant, const Mesh& mesh,
                           const std::vector<RayF>& rays);
 

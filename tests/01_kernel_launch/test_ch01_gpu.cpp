@@ -49,7 +49,7 @@ TEST_CASE("GPU and CPU images are identical", "[ch01][gpu]") {
     const Image cpu = render_image(Backend::cpu, extent, {16, 16});
     CHECK(count_differing_pixels(render_image(Backend::gpu, extent, {16, 16}).pixels,
                                  cpu.pixels) == 0);
-    CHECK(count_differing_pixels(render_first_kernel_image(extent, {16, 16}).pixels,
+    CHECK(count_differing_pixels(render_first_frame_by_hand(extent, {16, 16}).image.pixels,
                                  cpu.pixels) == 0);
   }
 }

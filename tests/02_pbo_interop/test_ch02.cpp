@@ -23,6 +23,34 @@ TEST_CASE("CPU frames are the per-pixel pattern, and they move", "[ch02]") {
         0);
 }
 
+TEST_CASE("a torn frame mixes two frames warp by warp, and its map marks the stale pixels",
+          "[ch02]") {
+  const Extent extent{64, 32}; // 4 x 2 blocks of 16 x 16, 8 warps each
+  const Image before = render_frame_image(Backend::cpu, extent, 9);
+  const Image after = render_frame_image(Backend::cpu, extent, 10);
+  const Image picture = torn_frame(extent, 10);
+  REQUIRE(picture.width == 2 * extent.width);
+  REQUIRE(picture.height == extent.height);
+  const Rgba8 white{255, 255, 255, 255};
+  int stale_warps = 0;
+  for (int y = 0; y < extent.height; y += 2)
+    for (int x = 0; x < extent.width; x += 16) {
+      // A warp is 16 x 2 pixels: all of them come from the same frame.
+      const bool stale =
+          picture.at(x, y) != after.at(x, y) || picture.at(x, y + 1) != after.at(x, y + 1);
+      stale_warps += stale ? 1 : 0;
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 16; ++dx) {
+          const Rgba8 shown = picture.at(x + dx, y + dy);
+          REQUIRE(shown == (stale ? before : after).at(x + dx, y + dy));
+          const bool marked = picture.at(extent.width + x + dx, y + dy) == white;
+          REQUIRE(marked == (shown != after.at(x + dx, y + dy)));
+        }
+    }
+  CHECK(stale_warps > 16 / 4); // of 64 warps, neither none nor all are stale
+  CHECK(stale_warps < 64 - 16 / 4);
+}
+
 TEST_CASE("animated pattern values", "[ch02]") {
   // The centre pixel of a 4x4 image at frame 0: distance 0, no drift.
   const Rgba8 centre = animated_pattern(2, 2, 4, 4, 0);

@@ -210,3 +210,50 @@ TEST_CASE("the mirror depth bounds the rays: depth 0 shows no reflections", "[ch
   CHECK(static_cast<long long>(count_differing_pixels(flat.pixels, mirrored.pixels)) >
         extent.pixel_count() / 50);
 }
+
+TEST_CASE("the rays a pixel traces: one in the sky, more where mirrors bounce it", "[ch03]") {
+  const Extent extent{160, 90};
+  const CameraSpec spec;
+  const SphereScene<float> scene = make_default_scene();
+  const Camera<float> camera = make_camera<float>(spec, extent);
+  std::vector<PixelRecord> records(extent.pixel_count());
+  Image image(extent.width, extent.height);
+  render_spheres(Backend::cpu, scene, camera, extent, {SphereVariant::stable, 4},
+                 image.pixels.data(), records.data());
+  CHECK(records[0].sphere == -1); // the top left corner sees the sky
+  CHECK(records[0].rays == 1);
+  int most = 0;
+  for (const PixelRecord& r : records) {
+    REQUIRE(r.rays >= 1);
+    REQUIRE(r.rays <= 5); // the primary ray and at most 4 bounces
+    most = std::max(most, r.rays);
+  }
+  CHECK(most >= 3); // the mirror sphere reflects the coloured ones, which reflect again
+  const ReferenceFrame reference = render_reference(scene, spec, extent, 4);
+  CHECK(reference.rays > extent.pixel_count());
+}
+
+TEST_CASE("scaled by 2^20 the scene renders the same image, and a fixed 1e-4 offset then "
+          "speckles the mirror",
+          "[ch03]") {
+  const Extent extent{160, 90};
+  const CameraSpec spec;
+  CameraSpec far = spec;
+  const double factor = 1048576.0; // a power of two: every coordinate scales exactly
+  far.eye = spec.eye * factor;
+  far.target = spec.target * factor;
+  const SphereScene<float> scene = make_default_scene();
+  const SphereScene<float> big = scene.scaled(float(factor));
+  Image at_one(extent.width, extent.height), scaled_offset(extent.width, extent.height),
+      fixed_offset(extent.width, extent.height);
+  render_spheres(Backend::cpu, scene, make_camera<float>(spec, extent), extent,
+                 {SphereVariant::stable, 4}, at_one.pixels.data());
+  render_spheres(Backend::cpu, big, make_camera<float>(far, extent), extent,
+                 {SphereVariant::stable, 4}, scaled_offset.pixels.data());
+  render_spheres(Backend::cpu, big, make_camera<float>(far, extent), extent,
+                 {SphereVariant::stable, 4, 1e-4f}, fixed_offset.pixels.data());
+  CHECK(count_differing_pixels(at_one.pixels, scaled_offset.pixels) == 0);
+  // p + 1e-4 n rounds back to p (an ulp of 1e6 is 0.06): mirror rays re-hit their sphere.
+  CHECK(static_cast<long long>(count_differing_pixels(at_one.pixels, fixed_offset.pixels)) >
+        extent.pixel_count() / 100);
+}

@@ -25,11 +25,13 @@ template <class T> RT_HD constexpr T clamp_to(T x, T lo, T hi) {
 // is recovered exactly by an FMA and added back, so the result is within 1.5 ulp even when
 // a*b and c*d almost cancel. Every operation is explicit, so compiler FMA contraction
 // (nvcc's default) cannot change the result.
+// [listing:difference_of_products]
 template <class T> RT_HD inline T difference_of_products(T a, T b, T c, T d) {
   const T cd = c * d;
   const T cd_error = fused_multiply_add(-c, d, cd);
   const T ab_minus_cd = fused_multiply_add(a, b, -cd);
   return ab_minus_cd + cd_error;
 }
+// [/listing:difference_of_products]
 
 } // namespace rt

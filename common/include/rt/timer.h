@@ -44,6 +44,7 @@ template <class Run> Timing time_cpu(Run&& run, TimingPlan plan) {
 }
 
 // `launch` enqueues GPU work on the default stream; only that work is timed.
+// [listing:time_gpu]
 template <class Launch> Timing time_gpu(Launch&& launch, TimingPlan plan) {
   for (int i = 0; i < plan.warmups; ++i) launch();
   CudaEvent start, stop;
@@ -57,6 +58,7 @@ template <class Launch> Timing time_gpu(Launch&& launch, TimingPlan plan) {
   }
   return summarize(std::move(samples));
 }
+// [/listing:time_gpu]
 
 // Times `run` on the given resolved backend with the protocol's plan.
 template <class Run> Timing time_on(Backend resolved, Run&& run, int frames = 0) {
