@@ -9,6 +9,7 @@
 
 #include "frames.h"
 #include "orbit_controls.h"
+#include "rt/cli.h"
 #include "rt/cuda_check.h"
 #include "rt/report.h"
 
@@ -41,9 +42,11 @@ void add_display_options(CLI::App& app, DisplayChoice& choice) {
       app.add_flag("--headless", choice.headless, "Render without a window: report and image");
   app.add_flag("--window", choice.window, "Open the window (an error if there is no display)")
       ->excludes(headless);
-  app.footer("Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E move, "
-             "R resets the camera, S saves a screenshot, V toggles vsync, Esc quits. With "
-             "--frames N the window shows N frames, writes --output and closes.");
+  add_help_paragraph(app,
+                     "Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E "
+                     "move, R resets the camera, S saves a screenshot, V toggles vsync, Esc "
+                     "quits. With --frames N the window shows N frames, writes --output and "
+                     "closes.");
 }
 
 std::unique_ptr<ch02::Viewer> open_viewer(const DisplayChoice& choice, Extent size,

@@ -43,7 +43,9 @@ struct Bounds {
 Bounds bounds_of(const ch04::Mesh& mesh);
 
 // The benchmark protocol's auto-framing: looking down -z at the box's centre from
-// r / sin(fov / 2) away, so the bounding sphere fills the view's height.
+// r / sin(fov / 2) away, so the bounding sphere fills the view's height. Throws InputError,
+// naming the cause, if that eye lies beyond chapter 03's k_max_coordinate or rounds onto the
+// target in float.
 CameraSpec frame_bounds(const Bounds& bounds, double fov_degrees);
 
 struct LightSettings {
@@ -62,7 +64,9 @@ void validate_lights(const LightSettings& settings);
 Lights make_lights(const Bounds& bounds, const LightSettings& settings);
 
 // An icosphere shaded smooth with computed vertex normals, a box and a floor quad with one
-// normal per face (their edges stay sharp), all scaled by `scale` about the origin.
+// normal per face (their edges stay sharp), all scaled by `scale` about the origin. Throws
+// InputError for a scale that takes the scene out of the supported range (about 1e-8 to
+// 1.6e9: ch04::check_supported_range).
 ShadedScene make_default_scene(int sphere_subdivisions, double scale,
                                const LightSettings& lights);
 // The camera that goes with it (chapter 04's view), scaled alike.
