@@ -75,7 +75,7 @@ std::string read_all(std::FILE* file, long long max_bytes, const std::string& na
 // opening a named pipe waits for a writer that may never come.
 std::string read_obj_file(const std::string& path, const LoadLimits& limits) {
   namespace fs = std::filesystem;
-  if (path.empty()) fail("(no file name)", "an empty path names no OBJ file");
+  if (path.empty()) throw InputError("the OBJ file name is empty");
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   if (error) fail(path, "cannot open (" + error.message() + ")");

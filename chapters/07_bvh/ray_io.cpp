@@ -92,8 +92,7 @@ template <class Record, class Problem>
 std::vector<Record> read_records(const std::string& path, long long max_records,
                                  const char* noun, Problem problem) {
   namespace fs = std::filesystem;
-  if (path.empty())
-    fail("(no file name)", "an empty path names no file of " + std::string(noun));
+  if (path.empty()) throw InputError("the file name of the " + std::string(noun) + " is empty");
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   if (error) fail(path, "cannot open (" + error.message() + ")");
