@@ -4,13 +4,12 @@
 #include <atomic>
 #include <cstdio>
 #include <iostream>
+#include <ostream>
 #include <utility>
 
 namespace rt {
 
 namespace {
-
-constexpr std::chrono::seconds k_period{5};
 
 thread_local std::string current_name = "working on the CPU";
 std::atomic<int> quiet_count{0};
@@ -19,28 +18,29 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void print(const std::string& line) {
+void print(std::ostream& out, const std::string& line) {
   std::cout.flush(); // keeps the report's lines and these in order when both go to a terminal
-  std::cerr << line << std::endl;
+  out << line << std::endl;
 }
 
 } // namespace
 
-CpuProgress::CpuProgress(long long total, const char* unit)
-    : what_(current_name), total_(total), unit_(unit), start_(std::chrono::steady_clock::now()),
-      next_line_(start_ + k_period) {}
+CpuProgress::CpuProgress(long long total, const char* unit, std::ostream& out,
+                         std::chrono::milliseconds period)
+    : what_(current_name), out_(out), period_(period), total_(total), unit_(unit),
+      start_(std::chrono::steady_clock::now()), next_line_(start_ + period) {}
 
 CpuProgress::~CpuProgress() {
   if (!printed_) return;
   char line[64];
   std::snprintf(line, sizeof line, ": done in %.0f s", seconds_since(start_));
-  print(what_ + line);
+  print(out_, what_ + line);
 }
 
 void CpuProgress::update(long long done) {
   const auto now = std::chrono::steady_clock::now();
   if (now < next_line_) return;
-  next_line_ = now + k_period;
+  next_line_ = now + period_;
   if (quiet_count.load(std::memory_order_relaxed) > 0) return;
   const double percent = total_ > 0 ? 100.0 * double(done) / double(total_) : 100.0;
   char line[128];
@@ -49,7 +49,7 @@ void CpuProgress::update(long long done) {
                   total_, unit_, seconds_since(start_));
   else
     std::snprintf(line, sizeof line, ": %.0f%%, %.0f s", percent, seconds_since(start_));
-  print(what_ + line);
+  print(out_, what_ + line);
   printed_ = true;
 }
 

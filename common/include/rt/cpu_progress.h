@@ -5,6 +5,7 @@
 #pragma once
 
 #include <chrono>
+#include <iostream>
 #include <string>
 
 namespace rt {
@@ -13,8 +14,9 @@ class CpuProgress {
 public:
   // Work of `total` items named by `unit` ("rows", "rays"; null: the line shows only the
   // percentage), called what the innermost live CpuWorkName of this thread says ("working on
-  // the CPU" without one).
-  CpuProgress(long long total, const char* unit);
+  // the CPU" without one). Lines go to `out` every `period`, the first after one period.
+  CpuProgress(long long total, const char* unit, std::ostream& out = std::cerr,
+              std::chrono::milliseconds period = std::chrono::seconds(5));
   // Prints "<what>: done in 15 s" if it printed anything before.
   ~CpuProgress();
   CpuProgress(const CpuProgress&) = delete;
@@ -26,6 +28,8 @@ public:
 
 private:
   std::string what_;
+  std::ostream& out_;
+  std::chrono::milliseconds period_;
   long long total_;
   const char* unit_;
   std::chrono::steady_clock::time_point start_, next_line_;
