@@ -32,6 +32,13 @@ std::string format_float(float x) {
   return text;
 }
 
+// A bound as the messages name it: 1e+10, 0.0001.
+std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", static_cast<double>(static_cast<float>(x)));
+  return text;
+}
+
 std::string format_vec(Vec3f v) {
   char text[96];
   std::snprintf(text, sizeof text, "(%.9g, %.9g, %.9g)", static_cast<double>(v.x),
@@ -154,12 +161,12 @@ struct RayProblem {
     if (std::isnan(ray.tmax)) return "tmax is NaN";
     if (max_component(elementwise_abs(ray.origin)) > ch03::k_max_coordinate)
       return "the origin " + format_vec(ray.origin) + " lies beyond the supported +-" +
-             format_float(static_cast<float>(ch03::k_max_coordinate));
+             short_number(ch03::k_max_coordinate);
     const float largest = max_component(elementwise_abs(ray.direction));
     if (largest < k_min_direction || largest > k_max_direction)
       return "the direction " + format_vec(ray.direction) +
              " is outside the supported lengths: its largest component must lie in [" +
-             format_float(k_min_direction) + ", " + format_float(k_max_direction) + "]";
+             short_number(k_min_direction) + ", " + short_number(k_max_direction) + "]";
     return {};
   }
 };

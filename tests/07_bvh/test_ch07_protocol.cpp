@@ -136,7 +136,7 @@ TEST_CASE("pcg2d gives the protocol's test vectors exactly", "[ch07]") {
   CHECK(same_bits(pcg2d_uniforms(960, 540), Vec2f{0.811587811f, 0.0957951546f}));
 }
 
-TEST_CASE("pcg2d uniforms are multiples of 2^-24 in [0, 1) and evenly spread", "[ch07]") {
+TEST_CASE("pcg2d uniforms are multiples of 2^-24 from 0 up to 1 and evenly spread", "[ch07]") {
   constexpr int k_side = 256;
   std::vector<int> histogram(16, 0);
   for (int j = 0; j < k_side; ++j)

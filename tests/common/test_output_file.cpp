@@ -147,7 +147,7 @@ TEST_CASE("a write-protected file is refused and kept", "[common]") {
   fs::permissions(path, fs::perms::owner_all);
 }
 
-TEST_CASE("a symbolic link stays a link; the file it names is replaced", "[common]") {
+TEST_CASE("a symbolic link stays a link, and the file it names is replaced", "[common]") {
   const fs::path folder = rt::testing::temp_folder("rt_output_link");
   const fs::path target = folder / "target.txt", link = folder / "link.txt";
   fs::remove(link);
@@ -164,7 +164,8 @@ TEST_CASE("a symbolic link stays a link; the file it names is replaced", "[commo
   fs::remove(link);
 }
 
-TEST_CASE("devices are written directly and never removed; /dev/full is an error", "[common]") {
+TEST_CASE("devices are written directly and never removed, and /dev/full is an error",
+          "[common]") {
   REQUIRE(is_character_device("/dev/null"));
   write_output_file("/dev/null", "text", writes("gone"));
   CHECK(is_character_device("/dev/null"));
