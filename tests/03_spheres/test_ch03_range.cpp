@@ -5,10 +5,13 @@
 #include <functional>
 #include <string>
 
+#include <SDL.h>
+
 #include "rt_catch.h"
 
 #include "camera_cli.h"
 #include "camera_spec.h"
+#include "orbit_controls.h"
 #include "rt/error.h"
 #include "supported_range.h"
 
@@ -120,4 +123,20 @@ TEST_CASE("camera: an orthographic view too small for its distance from the orig
   spec.target = {0.3, 0.7, 0.0};
   CHECK(spacing_refusal(spec, {1280, 720}) == "no error");
   CHECK(neighbours_differ(spec, {1280, 720}));
+}
+
+TEST_CASE("the window's controls stop at the edge of what the camera can show", "[ch03]") {
+  const CameraSpec start;
+  OrbitControls controls(start);
+  SDL_Event wheel{};
+  wheel.type = SDL_MOUSEWHEEL;
+  wheel.wheel.y = 1; // one step in: 0.9 of the distance
+  for (int step = 0; step < 2000; ++step) controls.handle(wheel);
+  CHECK(refusal(controls.camera()) == "no error");
+  CHECK(length(controls.camera().eye - controls.camera().target) >= k_min_length);
+  wheel.wheel.y = -1;
+  for (int step = 0; step < 4000; ++step) controls.handle(wheel);
+  CHECK(refusal(controls.camera()) == "no error");
+  CHECK(max_component(elementwise_abs(controls.camera().eye)) <= k_max_coordinate);
+  CHECK(length(controls.camera().eye - controls.camera().target) > 1e9);
 }
