@@ -351,6 +351,17 @@ ObjMesh parse_text(std::string text, const std::string& name, const LoadLimits& 
 
 } // namespace
 
+std::string describe_load_limits(const LoadLimits& limits) {
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "OBJ files (plain or gzip'd) hold at most %lld triangles and %lld vertices in "
+                "%lld bytes of text; coordinates within +-%g; a triangle with area spans at "
+                "least %g (book chapters 03 and 05).",
+                limits.max_triangles, limits.max_vertices, limits.max_file_bytes,
+                ch03::k_max_coordinate, ch03::k_min_length);
+  return text;
+}
+
 ObjMesh load_obj(const std::string& path, const LoadLimits& limits) {
   std::string bytes = read_obj_file(path, limits);
   if (is_gzip(bytes)) bytes = gunzip(bytes, path, limits.max_file_bytes);

@@ -42,6 +42,10 @@ struct ObjMesh {
   Vec3f bounds_min, bounds_max;      // of the positions that triangles use
 };
 
+// One sentence for a program's --help: what a file may hold (the limits above and the
+// supported range of chapter 03), e.g. "at most 10000000 triangles ...".
+std::string describe_load_limits(const LoadLimits& limits = {});
+
 // Loads an OBJ file. Gzip-compressed files are recognised by their first two bytes (the gzip
 // magic number), whatever the file is called. Materials come from the .mtl files that
 // `mtllib` names, looked up next to the OBJ file; a missing .mtl is not an error: faces whose

@@ -195,6 +195,14 @@ void write_records(const std::string& path, std::span<const Record> records, con
 
 } // namespace
 
+std::string describe_ray_file_limits() {
+  return "Ray files hold at most " + std::to_string(k_default_max_records) +
+         " rays; origins within +-" + short_number(ch03::k_max_coordinate) +
+         ", directions of any length whose largest component lies in [" +
+         short_number(k_min_direction) + ", " + short_number(k_max_direction) +
+         "] (book chapter 07).";
+}
+
 std::vector<RayF> read_ray_file(const std::string& path, long long max_rays) {
   return read_records<RayF>(path, max_rays, "rays", RayProblem{});
 }

@@ -40,6 +40,10 @@ inline constexpr long long k_default_max_records = 1LL << 25;
 inline constexpr float k_min_direction = 1e-4f;
 inline constexpr float k_max_direction = 1e4f;
 
+// One sentence for a program's --help: the most records a file may hold and the rays the
+// supported range allows.
+std::string describe_ray_file_limits();
+
 // Reads a ray file. Throws InputError "path: what is wrong" for a missing or unreadable file,
 // a size that is not a whole number of records, more than max_rays rays, or a ray that cannot
 // be traced: NaN anywhere, a non-finite origin or direction, a zero direction, a non-finite

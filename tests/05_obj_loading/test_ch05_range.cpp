@@ -135,3 +135,12 @@ TEST_CASE("a tiny and a huge model inside the range render as the float64 refere
     }
   }
 }
+
+TEST_CASE("the help sentence names the loader's limits and range", "[ch05]") {
+  LoadLimits limits;
+  limits.max_triangles = 123;
+  const std::string text = describe_load_limits(limits);
+  CHECK_THAT(text, contains("at most 123 triangles") && contains("+-1e+10") &&
+                       contains("at least 1e-10"));
+  CHECK_THAT(describe_load_limits(), contains("at most 10000000 triangles"));
+}

@@ -296,3 +296,9 @@ TEST_CASE("the Embree comparison takes --backend cpu, not its value as a scene",
   CHECK_FALSE(contains("cpu").match(run.output));
 }
 #endif
+
+TEST_CASE("the help sentence names the ray-file limits and range", "[ch07]") {
+  CHECK_THAT(describe_ray_file_limits(), contains("at most 33554432 rays") &&
+                                             contains("+-1e+10") &&
+                                             contains("[0.0001, 10000]"));
+}

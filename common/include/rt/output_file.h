@@ -15,6 +15,8 @@ namespace rt {
 // temporary file in the same folder and renamed into place after write() returns and the
 // flush and close succeed; on any failure only that temporary file is removed, and the target
 // is as it was. A replaced file keeps its permission bits; a write-protected one is refused.
+// The folder must let the program create a file (a writable file in a read-only folder is
+// refused: writing it in place could leave it half written).
 // An existing target that is not a regular file is never replaced or removed: a character
 // device or a pipe (/dev/null, /dev/stdout, a FIFO) is written directly, anything else (a
 // directory, a socket) is refused. write() may throw; a short write shows through ferror().
