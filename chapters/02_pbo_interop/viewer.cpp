@@ -1,8 +1,12 @@
 // Chapter 02: the viewer. See viewer.h.
 #include "viewer.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+
+#include <unistd.h>
 
 #include <SDL.h>
 
@@ -16,18 +20,74 @@ bool display_available() {
   return (x11 != nullptr && *x11 != '\0') || (wayland != nullptr && *wayland != '\0');
 }
 
+namespace {
+
+std::string environment(const char* name) {
+  const char* value = std::getenv(name);
+  return value != nullptr ? value : "";
+}
+
+// The display the environment names, for messages: "the X display ':99' (DISPLAY)".
+std::string named_display() {
+  const std::string x11 = environment("DISPLAY"), wayland = environment("WAYLAND_DISPLAY");
+  std::string named;
+  if (!x11.empty()) named = "the X display '" + x11 + "' (DISPLAY)";
+  if (!wayland.empty())
+    named += (named.empty() ? "" : " or ") + ("the Wayland display '" + wayland + "'");
+  return named;
+}
+
+// Runs `step` with stderr going to a temporary file, and returns the first line written there.
+// SDL probes its video drivers, and the libraries under them (libwayland, Xlib) print their own
+// complaints while it does ("XDG_RUNTIME_DIR is invalid or not set"), whether or not a driver
+// then works. The program's one line names the display instead; the noise goes into it only
+// when opening fails.
+std::string first_stderr_line_of(const std::function<void()>& step) {
+  std::fflush(stderr);
+  std::FILE* capture = std::tmpfile();
+  const int saved = capture != nullptr ? ::dup(STDERR_FILENO) : -1;
+  if (saved < 0 || ::dup2(::fileno(capture), STDERR_FILENO) < 0) {
+    if (saved >= 0) ::close(saved);
+    if (capture != nullptr) std::fclose(capture);
+    step(); // no capture possible: the noise stays, the program still works
+    return {};
+  }
+  step();
+  std::fflush(stderr);
+  ::dup2(saved, STDERR_FILENO);
+  ::close(saved);
+  std::rewind(capture);
+  char line[256] = {};
+  std::string first;
+  if (std::fgets(line, sizeof line, capture) != nullptr) first = line;
+  std::fclose(capture);
+  while (!first.empty() && (first.back() == '\n' || first.back() == '\r')) first.pop_back();
+  return first;
+}
+
+} // namespace
+
 Viewer::Viewer(Extent image, const std::string& title, bool vsync) : size_(image) {
   if (!display_available())
     throw DisplayError("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)");
-  if (SDL_Init(SDL_INIT_VIDEO) != 0)
-    throw DisplayError(std::string("cannot open the display: SDL: ") + SDL_GetError());
+  // With only one kind of display named, SDL is told which driver to use, so that it does not
+  // probe the other (unless the reader chose one with SDL_VIDEODRIVER).
+  const bool x11 = !environment("DISPLAY").empty(),
+             wayland = !environment("WAYLAND_DISPLAY").empty();
+  if (environment("SDL_VIDEODRIVER").empty() && x11 != wayland)
+    SDL_SetHint(SDL_HINT_VIDEODRIVER, x11 ? "x11" : "wayland");
+  int status = 0;
+  const std::string noise = first_stderr_line_of([&] { status = SDL_Init(SDL_INIT_VIDEO); });
+  const std::string aside = noise.empty() ? "" : " (it said: " + noise + ")";
+  if (status != 0)
+    throw DisplayError("cannot open " + named_display() + ": SDL: " + SDL_GetError() + aside);
   // When the named display cannot be reached, SDL falls back to drivers that show nothing
   // (offscreen, dummy): that is no display either.
   const std::string driver = SDL_GetCurrentVideoDriver() ? SDL_GetCurrentVideoDriver() : "";
   if (driver != "x11" && driver != "wayland") {
     SDL_Quit();
-    throw DisplayError("cannot open the display (SDL found only its '" + driver +
-                       "' video driver)");
+    throw DisplayError("cannot open " + named_display() + ": SDL found only its '" + driver +
+                       "' video driver" + aside);
   }
   window_ =
       SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,

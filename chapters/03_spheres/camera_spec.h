@@ -43,7 +43,14 @@ struct FloatRaysInDouble {
   }
 };
 
+// Throws UsageError when neighbouring pixels of an image of `extent` would get the same ray,
+// or rays less than a few float steps apart: a field of view too narrow for the image's
+// height, or an orthographic view too small for its distance from the origin.
+void check_pixel_spacing(const CameraSpec& spec, Extent extent);
+
+// Throws what check_pixel_spacing throws.
 template <class T> Camera<T> make_camera(const CameraSpec& spec, Extent extent) {
+  check_pixel_spacing(spec, extent);
   Camera<T> camera;
   camera.kind = spec.kind;
   const Vec3<T> eye = spec.eye.as<T>(), target = spec.target.as<T>(), up = spec.up.as<T>();

@@ -7,6 +7,9 @@
 
 #include <SDL.h>
 
+#include "camera_cli.h"
+#include "rt/error.h"
+
 namespace rt::ch03 {
 namespace {
 
@@ -72,7 +75,9 @@ void OrbitControls::orbit(double dx_pixels, double dy_pixels) {
   const double limit = 89.0 * std::numbers::pi / 180.0;
   pitch = std::clamp(pitch + dy_pixels * k_radians_per_pixel, -limit, limit);
   const Vec3d horizontal = ahead * std::cos(yaw) + side * std::sin(yaw);
-  camera_.eye = camera_.target + (horizontal * std::cos(pitch) + up * std::sin(pitch)) * radius;
+  CameraSpec next = camera_;
+  next.eye = camera_.target + (horizontal * std::cos(pitch) + up * std::sin(pitch)) * radius;
+  move_to(next);
 }
 
 void OrbitControls::pan(double dx_pixels, double dy_pixels) {
@@ -81,18 +86,33 @@ void OrbitControls::pan(double dx_pixels, double dy_pixels) {
   const Vec3d up = cross(right, forward);
   const double scale = k_pan_per_pixel * length(camera_.target - camera_.eye);
   const Vec3d shift = right * (-dx_pixels * scale) + up * (dy_pixels * scale);
-  camera_.eye += shift;
-  camera_.target += shift;
+  CameraSpec next = camera_;
+  next.eye += shift;
+  next.target += shift;
+  move_to(next);
 }
 
 void OrbitControls::zoom(double steps) {
   const Vec3d offset = camera_.eye - camera_.target;
-  camera_.eye = camera_.target + offset * std::pow(k_zoom_per_step, steps);
+  CameraSpec next = camera_;
+  next.eye = camera_.target + offset * std::pow(k_zoom_per_step, steps);
+  move_to(next);
 }
 
 void OrbitControls::move(Vec3d along, double distance) {
-  camera_.eye += along * distance;
-  camera_.target += along * distance;
+  CameraSpec next = camera_;
+  next.eye += along * distance;
+  next.target += along * distance;
+  move_to(next);
+}
+
+void OrbitControls::move_to(const CameraSpec& next) {
+  try {
+    validate_camera(next);
+    camera_ = next;
+  } catch (const UsageError&) {
+    // Stays: the reader sees the camera stop at the edge of what it can show.
+  }
 }
 
 } // namespace rt::ch03

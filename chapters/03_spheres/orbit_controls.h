@@ -25,6 +25,10 @@ private:
   void pan(double dx_pixels, double dy_pixels);
   void zoom(double steps);
   void move(Vec3d along, double distance); // eye and target together
+  // Takes `next` if validate_camera accepts it, else keeps the camera where it is: a wheel
+  // turned on and on would bring the eye onto the target in float, or carry the camera
+  // beyond the supported range (supported_range.h).
+  void move_to(const CameraSpec& next);
 
   CameraSpec camera_;
   CameraSpec home_;

@@ -9,6 +9,7 @@
 
 #include "frames.h"
 #include "orbit_controls.h"
+#include "rt/cli.h"
 #include "rt/cuda_check.h"
 #include "rt/program_output.h"
 #include "rt/report.h"
@@ -39,11 +40,11 @@ struct FrameTarget {
 
 void add_display_options(CLI::App& app, DisplayChoice& choice) {
   ch02::add_display_flags(app, choice, "Render without a window: report and image");
-  const std::string program_footer = app.get_footer();
-  app.footer("Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E move, "
-             "R resets the camera, S saves a screenshot, V toggles vsync, Esc quits. With "
-             "--frames N the window shows N frames, writes --output and closes." +
-             (program_footer.empty() ? "" : " " + program_footer));
+  add_help_paragraph(app,
+                     "Window: left mouse orbits, right/middle pans, wheel zooms, W/A/S/D/Q/E "
+                     "move, R resets the camera, S saves a screenshot, V toggles vsync, Esc "
+                     "quits. With --frames N the window shows N frames, writes --output and "
+                     "closes.");
 }
 
 WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec& start,

@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <utility>
 
 #include "rt/error.h"
+#include "supported_range.h"
 
 namespace rt::ch04 {
 
@@ -102,6 +104,55 @@ Mesh make_box(Vec3d min_corner, Vec3d max_corner, int cells) {
     }
   }
   return round_to_float(positions, std::move(triangles));
+}
+
+double triangle_span(const TriangleF& triangle) {
+  const Vec3d a = triangle.v0.as<double>(), b = triangle.v1.as<double>(),
+              c = triangle.v2.as<double>();
+  const Vec3d extent =
+      elementwise_max(a, elementwise_max(b, c)) - elementwise_min(a, elementwise_min(b, c));
+  return max_component(extent);
+}
+
+bool is_flat(const TriangleF& triangle) {
+  return cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0) == Vec3f{};
+}
+
+void check_supported_range(const Mesh& mesh, const std::string& what) {
+  const auto fail = [&](const std::string& problem) {
+    std::ostringstream text;
+    text.precision(3);
+    text << what << ": " << problem;
+    throw InputError(text.str());
+  };
+  long long flat = 0;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const TriangleF t = mesh.triangle(static_cast<int>(i));
+    for (const Vec3f& p : {t.v0, t.v1, t.v2}) {
+      const double farthest = max_component(elementwise_abs(p.as<double>()));
+      if (!(farthest <= ch03::k_max_coordinate)) {
+        std::ostringstream problem;
+        problem.precision(3);
+        problem << "triangle " << i << " has a vertex at " << farthest
+                << " from the origin, beyond the supported +-" << ch03::k_max_coordinate;
+        fail(problem.str());
+      }
+    }
+    if (is_flat(t)) {
+      ++flat;
+    } else if (triangle_span(t) < ch03::k_min_length) {
+      std::ostringstream problem;
+      problem.precision(3);
+      problem << "triangle " << i << " spans only " << triangle_span(t)
+              << "; a triangle that is not flat must span at least " << ch03::k_min_length;
+      fail(problem.str());
+    }
+  }
+  if (flat == static_cast<long long>(mesh.triangles.size()))
+    fail(mesh.triangles.empty() ? std::string("no triangles")
+                                : "all " + std::to_string(flat) +
+                                      " triangles are flat (zero area in float): nothing "
+                                      "to intersect");
 }
 
 int count_unpaired_edges(const Mesh& mesh) {

@@ -3,6 +3,7 @@
 
 #include <limits>
 #include <span>
+#include <sstream>
 
 #include "rt/error.h"
 #include "trace.h"
@@ -27,7 +28,7 @@ template <class T>
 RT_HD Vec3<T> shade(const NearestTriangle<T>& hit, int object, Vec3<T> direction) {
   const Vec3<T> d = normalize(direction);
   if (hit.index < 0) return ch03::sky_colour(d);
-  const T facing = absolute(dot(normalize(hit.normal), d));
+  const T facing = absolute(dot(unit_normal(hit.normal), d));
   return object_colour(object).as<T>() * (T(0.25) + T(0.75) * facing);
 }
 
@@ -52,6 +53,10 @@ TriangleScene make_demo_scene(int sphere_subdivisions, Vec3d offset) {
     floor.vertices.push_back((offset + corner).as<float>());
   floor.triangles = {{0, 2, 1}, {0, 3, 2}};
   append(floor, 2);
+  std::ostringstream moved;
+  moved.precision(3);
+  moved << "the scene moved by (" << offset.x << ", " << offset.y << ", " << offset.z << ")";
+  check_supported_range(scene.mesh, moved.str());
   return scene;
 }
 

@@ -4,6 +4,7 @@
 // nothing while the reference sees a surface.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -43,6 +44,26 @@ RT_HD NearestTriangle<T> nearest_triangle(TriangleVariant variant, MeshView mesh
   return nearest;
 }
 
+// n at unit length, for a normal of any size. A triangle's normal, the cross product of its
+// edges, squares their size, and the squared length that normalize() forms squares it again:
+// beyond float's range for edges above ~1e9 or below ~1e-10 (NaN pixels). Scaling n first by
+// the power of two that brings its largest component near 1 is exact, so the result is bit
+// for bit normalize(n) wherever that is finite, and finite everywhere else.
+RT_HD inline float scaled_by_power_of_two(float x, int exponent) { return ldexpf(x, exponent); }
+RT_HD inline double scaled_by_power_of_two(double x, int exponent) {
+  return ldexp(x, exponent);
+}
+RT_HD inline int binary_exponent(float x) { return ilogbf(x); }
+RT_HD inline int binary_exponent(double x) { return ilogb(x); }
+template <class T> RT_HD Vec3<T> unit_normal(Vec3<T> n) {
+  const T largest = max_component(elementwise_abs(n));
+  if (!(largest > T(0) && is_finite(largest))) return normalize(n); // no direction: NaN
+  const int exponent = binary_exponent(largest);
+  return normalize(Vec3<T>{scaled_by_power_of_two(n.x, -exponent),
+                           scaled_by_power_of_two(n.y, -exponent),
+                           scaled_by_power_of_two(n.z, -exponent)});
+}
+
 // Closed meshes and a floor quad in one indexed mesh; object[i] says which the triangle
 // belongs to (its colour).
 struct TriangleScene {
@@ -51,6 +72,7 @@ struct TriangleScene {
 };
 
 // An icosphere, a box and a floor quad, all moved by `offset` (the camera must move with it).
+// Throws InputError if the scene would leave the supported range (check_supported_range).
 TriangleScene make_demo_scene(int sphere_subdivisions, Vec3d offset);
 
 // The scene in device memory, owned; view() is what kernels read.

@@ -14,6 +14,7 @@
 #include "rt/atomic.h"
 #include "rt/cuda_check.h"
 #include "rt/error.h"
+#include "supported_range.h"
 #include "trace.h"
 
 namespace rt::ch05 {
@@ -54,13 +55,8 @@ RT_HD Vec3<T> shade(const NearestTriangle<T>& hit, const std::int32_t* material,
                     Vec3<T> direction) {
   const Vec3<T> d = normalize(direction);
   if (hit.index < 0) return ch03::sky_colour(d);
-  const T facing = absolute(dot(normalize(hit.normal), d));
+  const T facing = absolute(dot(ch04::unit_normal(hit.normal), d));
   return material_colour(material[hit.index]).template as<T>() * (T(0.25) + T(0.75) * facing);
-}
-
-bool finite_in_float(Vec3d v) {
-  const Vec3f f = v.as<float>();
-  return ch04::is_finite(f.x) && ch04::is_finite(f.y) && ch04::is_finite(f.z);
 }
 
 std::string gigabytes(std::size_t bytes) {
@@ -91,11 +87,20 @@ CameraSpec frame_bounds(Vec3f bounds_min, Vec3f bounds_max, CameraSpec camera, E
   // At distance radius / sin(half_fov) the sphere touches the edges of the view cone.
   camera.target = centre;
   camera.eye = centre + normalize(k_framing_direction) * (radius / std::sin(half_fov));
-  if (!finite_in_float(camera.eye) || camera.eye.as<float>() == camera.target.as<float>()) {
+  // The eye stands further out than the box: near the edge of the supported range it lies
+  // beyond it, and a tiny box far from the origin can round to the same float as its centre.
+  const double farthest = max_component(elementwise_abs(camera.eye));
+  const bool too_far = !(farthest <= ch03::k_max_coordinate);
+  if (too_far || camera.eye.as<float>() == camera.target.as<float>()) {
     std::ostringstream what;
+    what.precision(3);
     what << "cannot frame the model: its bounding box (centre " << centre.x << "," << centre.y
-         << "," << centre.z << ", radius " << radius << ") needs a camera that float cannot "
-         << "hold; give --eye and --target";
+         << "," << centre.z << ", radius " << radius << ") needs a camera ";
+    if (too_far)
+      what << farthest << " from the origin, beyond the supported +-" << ch03::k_max_coordinate;
+    else
+      what << "that float rounds onto its target";
+    what << "; give --eye and --target";
     throw InputError(what.str());
   }
   return camera;

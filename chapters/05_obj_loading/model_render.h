@@ -34,8 +34,9 @@ inline constexpr Vec3d k_framing_direction{1.0, 0.6, 1.4};
 // `camera` with eye and target set so that the whole box is in view: it looks at the box's
 // centre from k_framing_direction, far enough that the box's bounding sphere fits both the
 // vertical and the horizontal field of view of an image of `extent`. Field of view, up and
-// camera kind are kept. Throws InputError if the result does not fit in float (a box near
-// float's range, or one too small to see at its distance from the origin).
+// camera kind are kept. Throws InputError, naming the cause, if the eye would stand beyond
+// chapter 03's k_max_coordinate (a box near the edge of the supported range) or round onto
+// the target in float (a box too small to see at its distance from the origin).
 CameraSpec frame_bounds(Vec3f bounds_min, Vec3f bounds_max, CameraSpec camera, Extent extent);
 
 // Every stride-th pixel of every stride-th row of an image, from the middle of each

@@ -12,12 +12,14 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string_view>
 #include <system_error>
 
 #include "rt/error.h"
+#include "supported_range.h"
 
 namespace rt::ch05 {
 
@@ -192,8 +194,9 @@ bool is_plain_decimal(std::string_view word, int& exponent) {
 // two billion digits. So a number must be plain decimal notation, at most 1000 characters
 // long, with an exponent of at most 99 (a float spans about 1e-45 to 3.4e38, so no float is
 // lost), and stay finite when rounded to float. Within these rules both readers agree.
-void check_number(std::string_view word, const char* what, const std::string& name,
-                  long long line) {
+// Returns the number.
+double check_number(std::string_view word, const char* what, const std::string& name,
+                    long long line) {
   const std::string subject = std::string(what) + " " + shown(word);
   int exponent = 0;
   if (!is_plain_decimal(word, exponent)) {
@@ -220,6 +223,22 @@ void check_number(std::string_view word, const char* what, const std::string& na
   if (!ch04::is_finite(static_cast<float>(value))) {
     fail(name, line, subject + " is too large for a float (largest 3.4e38)");
   }
+  return value;
+}
+
+// A position's x, y and z must lie in the range the float pipeline supports (chapter 03's
+// supported_range.h): beyond it the triangle tests' products overflow and the model would
+// vanish or come out black. (A fourth to sixth number, w or a colour, is not a coordinate.)
+void check_coordinate(double value, std::string_view word, const std::string& name,
+                      long long line) {
+  if (std::abs(value) <= ch03::k_max_coordinate) return;
+  char range[32];
+  std::snprintf(range, sizeof range, "%g", ch03::k_max_coordinate);
+  fail(name, line,
+       "coordinate " + shown(word) +
+           " is outside the supported range: coordinates lie within "
+           "+-" +
+           range);
 }
 
 // What an index refers to, for checks and messages.
@@ -290,8 +309,8 @@ void check_corner(std::string_view word, const IndexedKind& positions,
 // Two passes: the first counts positions, texture coordinates and normals, because a positive
 // index may name one defined further down; the second checks each line in turn, so the error
 // reported is the first one in the file.
-ObjCounts check_obj_lines(std::string& text, const std::string& name,
-                          const LoadLimits& limits) {
+ObjCounts check_obj_lines(std::string& text, const std::string& name, const LoadLimits& limits,
+                          const std::function<void(std::size_t)>& read_up_to) {
   // A UTF-8 byte order mark, which some Windows editors put first, would hide the first
   // statement from tinyobjloader (it would read "\xEF\xBB\xBFv" as an unknown keyword).
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.replace(0, 3, "   ");
@@ -321,6 +340,8 @@ ObjCounts check_obj_lines(std::string& text, const std::string& name,
   std::vector<std::string_view> words;
   for (Lines lines(text); lines.next(line);) {
     const long long number = lines.number();
+    if (read_up_to && number % 4096 == 0)
+      read_up_to(static_cast<std::size_t>(line.data() - text.data()));
     // tinyobjloader reads each line as a C string, which would end at a NUL byte.
     if (line.find('\0') != std::string_view::npos) {
       fail(name, number, "NUL byte: this is a binary file, not OBJ text");
@@ -338,7 +359,10 @@ ObjCounts check_obj_lines(std::string& text, const std::string& name,
              "'v' needs x y z (optionally followed by w, or by r g b); this one has " +
                  count_of(count, "number", "numbers"));
       }
-      for (std::string_view word : words) check_number(word, "coordinate", name, number);
+      for (std::size_t k = 0; k < words.size(); ++k) {
+        const double value = check_number(words[k], "coordinate", name, number);
+        if (k < 3) check_coordinate(value, words[k], name, number);
+      }
       count_one(positions, number);
       break;
     case Kind::texcoord:

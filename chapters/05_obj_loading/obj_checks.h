@@ -2,6 +2,8 @@
 // problem is reported with its line number and tinyobjloader only sees text it reads right.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,7 +25,9 @@ struct ObjCounts {
 // Checks every line of `text`, or throws rt::InputError with "name:line: what is wrong".
 // Statements a triangle mesh does not use (lines, curves, smoothing groups...) are overwritten
 // with spaces, which keeps every line on its line number, so tinyobjloader sees only what was
-// checked. A UTF-8 byte order mark at the start is blanked too.
-ObjCounts check_obj_lines(std::string& text, const std::string& name, const LoadLimits& limits);
+// checked. A UTF-8 byte order mark at the start is blanked too. read_up_to, when given, is
+// called now and then with the offset the checks have reached (for a progress line).
+ObjCounts check_obj_lines(std::string& text, const std::string& name, const LoadLimits& limits,
+                          const std::function<void(std::size_t)>& read_up_to = {});
 
 } // namespace rt::ch05

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <istream>
 #include <map>
 #include <memory>
@@ -27,7 +28,9 @@
 
 #include "gunzip.h"
 #include "obj_checks.h"
+#include "rt/cpu_progress.h"
 #include "rt/error.h"
+#include "supported_range.h"
 
 namespace rt::ch05 {
 
@@ -72,6 +75,7 @@ std::string read_all(std::FILE* file, long long max_bytes, const std::string& na
 // opening a named pipe waits for a writer that may never come.
 std::string read_obj_file(const std::string& path, const LoadLimits& limits) {
   namespace fs = std::filesystem;
+  if (path.empty()) throw InputError("the OBJ file name is empty");
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   if (error) fail(path, "cannot open (" + error.message() + ")");
@@ -90,15 +94,32 @@ std::string read_obj_file(const std::string& path, const LoadLimits& limits) {
 // ---------------------------------------------------------------------------------------------
 // Step 3: tinyobjloader.
 
-// tinyobjloader reads from an std::istream. This one reads the text where it already is; an
-// std::istringstream would first copy a file that may be gigabytes long.
+// tinyobjloader reads from an std::istream. This one reads the text where it already is (an
+// std::istringstream would first copy a file that may be gigabytes long), a window at a time,
+// so that each move to the next window can say how far reading has come.
 class TextStreamBuffer : public std::streambuf {
 public:
-  explicit TextStreamBuffer(std::string_view text) {
+  explicit TextStreamBuffer(std::string_view text,
+                            std::function<void(std::size_t)> read_up_to = {})
+      : end_(const_cast<char*>(text.data() + text.size())), read_up_to_(std::move(read_up_to)) {
     // The get area is only read from: the const_cast never leads to a write.
     char* begin = const_cast<char*>(text.data());
-    setg(begin, begin, begin + text.size());
+    setg(begin, begin, begin + std::min<std::size_t>(text.size(), k_window));
   }
+
+private:
+  static constexpr std::size_t k_window = 1 << 20;
+
+  int_type underflow() override {
+    if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+    if (egptr() == end_) return traits_type::eof();
+    if (read_up_to_) read_up_to_(static_cast<std::size_t>(egptr() - eback()));
+    setg(eback(), egptr(), egptr() + std::min<std::size_t>(end_ - egptr(), k_window));
+    return traits_type::to_int_type(*gptr());
+  }
+
+  char* end_;
+  std::function<void(std::size_t)> read_up_to_;
 };
 
 // Reads the .mtl files that `mtllib` names, from the OBJ file's folder. tinyobjloader asks for
@@ -268,8 +289,24 @@ ObjMesh convert(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shap
       mesh.bounds_min = elementwise_min(mesh.bounds_min, p);
       mesh.bounds_max = elementwise_max(mesh.bounds_max, p);
     }
-    // Repeated corners and collinear corners alike give an exactly zero cross product.
-    if (cross(t.v1 - t.v0, t.v2 - t.v0) == Vec3f{}) ++mesh.degenerate_triangle_count;
+    // Repeated corners and collinear corners alike give an exactly zero cross product: valid
+    // geometry that is never hit. A triangle with area must be large enough for float's
+    // products (chapter 03's supported_range.h).
+    if (ch04::is_flat(t)) {
+      ++mesh.degenerate_triangle_count;
+    } else if (const double span = ch04::triangle_span(t); span < ch03::k_min_length) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "triangle %zu spans only %.3g; a triangle with area must span at least %g "
+                    "(the smallest scale the float pipeline supports)",
+                    i, span, ch03::k_min_length);
+      fail(name, text);
+    }
+  }
+  // A mesh of flat triangles only is refused like a mesh of no faces: nothing would be drawn.
+  if (mesh.degenerate_triangle_count == static_cast<int>(mesh.geometry.triangles.size())) {
+    fail(name, "all " + std::to_string(mesh.degenerate_triangle_count) +
+                   " triangles are flat (zero area in float): nothing to intersect");
   }
   return mesh;
 }
@@ -277,7 +314,13 @@ ObjMesh convert(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shap
 ObjMesh parse_text(std::string text, const std::string& name, const LoadLimits& limits,
                    tinyobj::MaterialReader* material_reader) {
   if (text.empty()) fail(name, "the file is empty");
-  const ObjCounts counts = check_obj_lines(text, name, limits);
+  // A model of millions of triangles takes seconds to check and to parse: both say how far
+  // they have come (rt/cpu_progress.h), as one piece of work of twice the text's size.
+  const CpuWorkName work("loading " + name);
+  CpuProgress progress(2 * static_cast<long long>(text.size()), nullptr);
+  const ObjCounts counts = check_obj_lines(text, name, limits, [&](std::size_t offset) {
+    progress.update(static_cast<long long>(offset));
+  });
   if (counts.faces == 0) {
     fail(name, "no faces (" + std::to_string(counts.positions) +
                    (counts.positions == 1 ? " vertex" : " vertices") +
@@ -288,7 +331,9 @@ ObjMesh parse_text(std::string text, const std::string& name, const LoadLimits& 
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;
   {
-    TextStreamBuffer buffer(text);
+    TextStreamBuffer buffer(text, [&](std::size_t offset) {
+      progress.update(static_cast<long long>(text.size() + offset));
+    });
     std::istream stream(&buffer);
     std::string warnings, errors;
     // Polygons are kept whole (triangulate = false, see convert()); per-vertex colours, an
@@ -305,6 +350,17 @@ ObjMesh parse_text(std::string text, const std::string& name, const LoadLimits& 
 }
 
 } // namespace
+
+std::string describe_load_limits(const LoadLimits& limits) {
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "OBJ files (plain or gzip'd) hold at most %lld triangles and %lld vertices in "
+                "%lld bytes of text; coordinates within +-%g; a triangle with area spans at "
+                "least %g (book chapters 03 and 05).",
+                limits.max_triangles, limits.max_vertices, limits.max_file_bytes,
+                ch03::k_max_coordinate, ch03::k_min_length);
+  return text;
+}
 
 ObjMesh load_obj(const std::string& path, const LoadLimits& limits) {
   std::string bytes = read_obj_file(path, limits);

@@ -9,6 +9,8 @@
 #include <string>
 #include <thread>
 
+#include "rt/cpu_progress.h"
+
 namespace rt::ch05 {
 
 class Progress {
@@ -35,6 +37,7 @@ private:
   std::chrono::steady_clock::time_point start_;
   unsigned rows_done_ = 0; // written by the render's threads with atomic increments
   int lines_ = 0;          // written by the printing thread, read after it has stopped
+  QuietCpuProgress quiet_; // this line replaces the launch helper's own (rt/cpu_progress.h)
   std::jthread printer_;   // declared last: stopped and joined before the rest goes
 };
 

@@ -7,9 +7,12 @@
 #include <cstdio>
 #include <map>
 #include <numbers>
+#include <sstream>
+#include <string>
 #include <utility>
 
 #include "rt/error.h"
+#include "supported_range.h"
 
 namespace rt::ch06 {
 namespace {
@@ -114,6 +117,22 @@ CameraSpec frame_bounds_down_z(const Bounds& bounds, double fov_degrees, Extent 
   camera.target = bounds.centre();
   camera.eye = bounds.centre() + Vec3d{0.0, 0.0, 1.0} * (radius / std::sin(half_fov));
   camera.fov_degrees = fov_degrees;
+  // Near the edge of the supported range the eye, further out than the box, lies beyond it;
+  // a tiny box far from the origin can round onto its centre in float.
+  const double farthest = max_component(elementwise_abs(camera.eye));
+  if (!(farthest <= ch03::k_max_coordinate) ||
+      camera.eye.as<float>() == camera.target.as<float>()) {
+    std::ostringstream what;
+    what.precision(3);
+    what << "cannot frame the model: its bounding box (radius " << radius
+         << ") needs a camera ";
+    if (!(farthest <= ch03::k_max_coordinate))
+      what << farthest << " from the origin, beyond the supported +-" << ch03::k_max_coordinate;
+    else
+      what << "that float rounds onto its target";
+    what << "; give --eye and --target";
+    throw InputError(what.str());
+  }
   return camera;
 }
 
@@ -159,6 +178,8 @@ ShadedScene make_default_scene(int sphere_subdivisions, double scale,
                       " triangles: icosphere (computed vertex normals, angle-weighted), box "
                       "and floor quad (a normal per face)";
   if (scale != 1.0) scene.description += ", scaled by " + short_number(scale);
+  ch04::check_supported_range(scene.mesh,
+                              "the built-in scene scaled by " + short_number(scale));
   return scene;
 }
 
@@ -177,6 +198,7 @@ ShadedScene make_lone_sphere(int subdivisions, double scale, const LightSettings
   scene.lights = make_lights(bounds_of(scene.mesh), lights);
   scene.description = "icosphere of " + std::to_string(scene.mesh.triangles.size()) +
                       " triangles, radius " + short_number(scale);
+  ch04::check_supported_range(scene.mesh, "a sphere of radius " + short_number(scale));
   return scene;
 }
 

@@ -47,6 +47,8 @@ Bounds bounds_of(const ch04::Mesh& mesh);
 // the box's centre from r / sin(half angle) away, the half angle being that of the narrower
 // of the two fields of view, so the bounding sphere fills the image's height (a wide image)
 // or its width (a tall one). Chapter 05's frame_bounds looks from a slanted direction instead.
+// Throws InputError, naming the cause, if that eye lies beyond chapter 03's k_max_coordinate
+// or rounds onto the target in float.
 CameraSpec frame_bounds_down_z(const Bounds& bounds, double fov_degrees, Extent extent);
 
 struct LightSettings {
@@ -65,7 +67,9 @@ void validate_lights(const LightSettings& settings);
 Lights make_lights(const Bounds& bounds, const LightSettings& settings);
 
 // An icosphere shaded smooth with computed vertex normals, a box and a floor quad with one
-// normal per face (their edges stay sharp), all scaled by `scale` about the origin.
+// normal per face (their edges stay sharp), all scaled by `scale` about the origin. Throws
+// InputError for a scale that takes the scene out of the supported range (about 1e-8 to
+// 1.6e9: ch04::check_supported_range).
 ShadedScene make_default_scene(int sphere_subdivisions, double scale,
                                const LightSettings& lights);
 // The camera that goes with it (chapter 04's view), scaled alike.

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "rt/cpu_progress.h"
 #include "rt/error.h"
 
 namespace rt::ch07 {
@@ -102,8 +103,10 @@ struct SahPlane {
 class Builder {
 public:
   Builder(const ch04::Mesh& mesh, const BuildOptions& options)
-      : options_(options), bins_(3 * static_cast<std::size_t>(options.bins)),
-        right_area_(options.bins), right_count_(options.bins), used_(options.bins) {
+      : options_(options),
+        progress_(static_cast<long long>(mesh.triangles.size()), "triangles in leaves"),
+        bins_(3 * static_cast<std::size_t>(options.bins)), right_area_(options.bins),
+        right_count_(options.bins), used_(options.bins) {
     const int n = static_cast<int>(mesh.triangles.size());
     const auto vertex_count = static_cast<long long>(mesh.vertices.size());
     references_.resize(n);
@@ -199,6 +202,8 @@ private:
       } else {
         ++stats_.leaves;
         ++stats_.leaf_sizes[count];
+        placed_ += count;
+        progress_.update(placed_);
       }
       // Written through the index: the recursion above may have moved the array.
       nodes_[index].box[c] = child_box[c];
@@ -343,6 +348,9 @@ private:
   }
 
   const BuildOptions& options_;
+  // Millions of triangles take seconds to build: the build says how far it has come.
+  CpuProgress progress_;
+  long long placed_ = 0;              // triangles in leaves so far
   std::vector<Reference> references_; // one per triangle, partitioned in place into leaf order
   std::vector<BvhNode> nodes_;
   BuildStats stats_;
@@ -383,6 +391,7 @@ Bvh build_bvh(const ch04::Mesh& mesh, const BuildOptions& options) {
   }
   Bvh bvh;
   bvh.options = options;
+  const CpuWorkName work("building the tree");
   Builder(mesh, options).build(bvh);
   bvh.triangles.reserve(bvh.triangle_ids.size());
   for (const int id : bvh.triangle_ids) bvh.triangles.push_back(mesh.triangle(id));

@@ -143,7 +143,11 @@ TraversalWork measure_work(Query query, TriangleVariant variant, const BvhView& 
                            std::span<const RayF> rays) {
   long long nodes = 0, triangles = 0;
   int max_stack = 0;
+  const CpuWorkName work("counting the traversal's work");
+  CpuProgress progress(static_cast<long long>(rays.size()), "rays");
+  long long done = 0;
   for (const RayF& ray : rays) {
+    progress.update(done++);
     Counters c;
     if (query == Query::closest)
       trace_bvh<Query::closest>(variant, bvh, ray, c);

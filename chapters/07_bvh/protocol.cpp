@@ -8,7 +8,10 @@
 #include <filesystem>
 #include <numbers>
 
+#include "camera_spec.h"
 #include "rt/error.h"
+#include "rt/report.h"
+#include "supported_range.h"
 
 namespace rt::ch07 {
 
@@ -55,6 +58,12 @@ ProtocolView auto_frame_view(const Aabb& bounds) {
   const Vec3d centre = (bounds.lo.as<double>() + bounds.hi.as<double>()) * 0.5;
   const Vec3d eye =
       centre + Vec3d{0.0, 0.0, 1.0} * (static_cast<double>(r) / std::sin(half_vfov));
+  if (max_component(elementwise_abs(eye)) > ch03::k_max_coordinate)
+    throw InputError("auto-frame: a camera that frames the scene (radius " +
+                     format_scientific(r, 2) + ") would stand at " +
+                     format_scientific(max_component(elementwise_abs(eye)), 2) +
+                     " from the origin, beyond the supported +-" +
+                     format_scientific(ch03::k_max_coordinate, 0));
   return {eye.as<float>(), centre.as<float>(), static_cast<float>(k_vfov_degrees),
           ViewKind::auto_frame};
 }
@@ -82,20 +91,40 @@ PinholeCamera make_protocol_camera(Vec3f eye, Vec3f target, float vfov_degrees, 
                                    int height) {
   if (!all_finite(eye) || !all_finite(target))
     throw InputError("camera: eye and target must be finite");
+  const double farthest = std::max(max_component(elementwise_abs(eye.as<double>())),
+                                   max_component(elementwise_abs(target.as<double>())));
+  if (farthest > ch03::k_max_coordinate)
+    throw InputError("camera: eye and target must lie within +-" +
+                     format_scientific(ch03::k_max_coordinate, 0) + " (a coordinate is " +
+                     format_scientific(farthest, 2) + ")");
   if (eye == target) throw InputError("camera: eye and target are the same point");
+  const double distance = length(target.as<double>() - eye.as<double>());
+  if (distance < ch03::k_min_length)
+    throw InputError("camera: eye and target are " + format_scientific(distance, 2) +
+                     " apart; the shortest supported distance is " +
+                     format_scientific(ch03::k_min_length, 0));
   if (!(vfov_degrees > 0.0f && vfov_degrees < 180.0f))
     throw InputError("camera: the field of view must lie between 0 and 180 degrees");
   if (width < 1 || width > k_max_image_side || height < 1 || height > k_max_image_side)
     throw InputError("camera: image size " + std::to_string(width) + "x" +
                      std::to_string(height) + " is outside 1.." +
                      std::to_string(k_max_image_side) + " pixels per side");
+  ch03::CameraSpec spec;
+  spec.eye = eye.as<double>();
+  spec.target = target.as<double>();
+  spec.fov_degrees = vfov_degrees;
+  try {
+    ch03::check_pixel_spacing(spec, {width, height});
+  } catch (const UsageError& narrow) {
+    throw InputError(std::string("camera: ") + narrow.what());
+  }
   const PinholeCamera camera = ch03::make_pinhole_camera(eye, target, Vec3f{0.0f, 1.0f, 0.0f},
                                                          vfov_degrees, width, height);
   // A view straight up or down has no right direction: cross(forward, up) is zero, and its
-  // normalisation NaN. So is a difference target - eye that overflows.
+  // normalisation NaN. (Eye and target within the supported range cannot overflow.)
   const ch03::ViewBasis<float>& basis = camera.basis;
   if (!all_finite(basis.forward) || !all_finite(basis.right) || !all_finite(basis.up))
-    throw InputError("camera: the view direction is parallel to up (0, 1, 0) or not finite");
+    throw InputError("camera: the view direction is parallel to up (0, 1, 0)");
   if (!std::isfinite(camera.tan_half_vfov))
     throw InputError("camera: the field of view is too close to 180 degrees");
   return camera;

@@ -59,7 +59,8 @@ struct ProtocolView {
 float scene_radius(const Aabb& bounds);
 
 // The whole bounding sphere of the box in view: c = centre, eye = c + (0, 0, 1) r /
-// sin(vfov/2), vfov = 45. Throws InputError for an empty, flat-to-a-point or non-finite box.
+// sin(vfov/2), vfov = 45. Throws InputError for an empty, flat-to-a-point or non-finite box,
+// and for one so large that the eye would stand beyond ch03::k_max_coordinate.
 ProtocolView auto_frame_view(const Aabb& bounds);
 
 // The protocol's view for a scene file: a file name starting with "conference" or "sponza"
@@ -74,7 +75,9 @@ using PinholeCamera = ch03::PinholeCamera<float>;
 
 inline constexpr int k_max_image_side = 16384; // pixels; W * H stays well inside an int
 
-// The protocol camera (up = (0, 1, 0)). Throws InputError for non-finite input, eye == target,
+// The protocol camera (up = (0, 1, 0)). Throws InputError for non-finite input, eye or target
+// beyond ch03::k_max_coordinate, eye and target closer than ch03::k_min_length (or equal),
+// neighbouring pixels that would get the same ray (ch03::check_pixel_spacing),
 // a view straight up or down (no "right" direction), a field of view outside (0, 180) degrees
 // or an image side outside 1..k_max_image_side.
 PinholeCamera make_protocol_camera(Vec3f eye, Vec3f target, float vfov_degrees, int width,

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "bvh_trace.h"
-#include "rt/launch.h"
+#include "rt/cpu_progress.h"
 
 namespace rt::ch07 {
 
@@ -14,7 +14,10 @@ Reference trace_reference(const ch04::Mesh& mesh, std::span<const ch03::RayF> ra
   Reference ref{every_kth_index(rays.size(), count), {}};
   ref.hits.resize(ref.index.size());
   const ch04::MeshView view = ch04::host_view(mesh);
-  for_each_pixel_cpu({static_cast<int>(ref.index.size()), 1}, [&](int k, int) {
+  // Every ray against every triangle, in double: on a large model this takes the CPU long
+  // enough to need its progress lines.
+  const CpuWorkName name("float64 reference");
+  for_each_ray_cpu(ref.index.size(), [&](std::size_t k) {
     ref.hits[k] = ch06::closest_surface(view, ch03::ray_as<double>(rays[ref.index[k]]));
   });
   return ref;

@@ -32,6 +32,11 @@ CLI::Option* add_on_off_option(CLI::App& app, const std::string& name, bool& val
       ->default_str(value ? "on" : "off");
 }
 
+void add_help_paragraph(CLI::App& app, const std::string& paragraph) {
+  const std::string& footer = app.get_footer();
+  app.footer(footer.empty() ? paragraph : footer + "\n\n" + paragraph);
+}
+
 void add_common_options(CLI::App& app, CommonOptions& options) {
   const auto side = CLI::Range(1, k_max_image_side);
   app.add_option("--width", options.width, "Image width in pixels")
@@ -52,6 +57,18 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                  "Timed runs per variant (default: 50 on the GPU, 5 on the CPU)")
       ->check(CLI::Range(1, 100000));
   app.add_option("--json", options.json, "Also write the report as JSON to this file");
+  app.final_callback([&options] {
+    if (options.extent().pixel_count() > k_max_image_pixels)
+      throw CLI::ValidationError(
+          "--width and --height",
+          std::to_string(options.width) + "x" + std::to_string(options.height) + " is " +
+              std::to_string(options.extent().pixel_count()) + " pixels, more than the " +
+              std::to_string(k_max_image_pixels) + " an image may have");
+  });
+  add_help_paragraph(app, "Images: at most " + std::to_string(k_max_image_side) +
+                              " pixels a side and " + std::to_string(k_max_image_pixels) +
+                              " in all (8K UHD fits). Output files are written whole or not "
+                              "at all: a failed write leaves what was at the path.");
 }
 
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {

@@ -1,15 +1,14 @@
 // Image output (chapter 01): see rt/image.h.
 #include "rt/image.h"
 
-#include <cerrno>
+#include <cctype>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <memory>
+#include <vector>
 
 #include <stb_image_write.h>
 
 #include "rt/error.h"
+#include "rt/output_file.h"
 
 namespace rt {
 
@@ -25,45 +24,46 @@ std::string lower(std::string s) {
   return s;
 }
 
-[[noreturn]] void fail_write(const std::string& what, const std::string& path, int error) {
-  throw OutputError("cannot write " + what + " '" + path + "'" +
-                    (error != 0 ? std::string(": ") + std::strerror(error) : std::string()));
-}
-
 } // namespace
 
 void check_image_path(const std::string& path) {
   const std::string p = lower(path);
   if (!ends_with(p, ".png") && !ends_with(p, ".pfm"))
     throw UsageError("output '" + path + "': expected a .png or .pfm file name");
+  check_output_path(path, "image");
 }
 
 void write_png(const std::string& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0) throw OutputError("cannot write an empty image");
-  errno = 0;
-  const int ok = stbi_write_png(path.c_str(), image.width, image.height, 4, image.pixels.data(),
-                                image.width * static_cast<int>(sizeof(Rgba8)));
-  if (!ok) fail_write("PNG", path, errno);
+  write_output_file(path, "PNG", [&](std::FILE* file) {
+    // stb encodes into memory and hands the bytes over in pieces; fwrite's failures show
+    // through ferror() when write_output_file closes the file.
+    const auto put = [](void* context, void* data, int size) {
+      std::fwrite(data, 1, static_cast<std::size_t>(size), static_cast<std::FILE*>(context));
+    };
+    if (!stbi_write_png_to_func(put, file, image.width, image.height, 4, image.pixels.data(),
+                                image.width * static_cast<int>(sizeof(Rgba8))))
+      throw OutputError(path + ": cannot write PNG (the encoder failed: out of memory)");
+  });
 }
 
 void write_pfm(const std::string& path, int width, int height, std::span<const Vec3f> rgb) {
   if (width <= 0 || height <= 0 || rgb.size() != static_cast<std::size_t>(width) * height)
-    throw OutputError("cannot write PFM '" + path + "': image size does not match its data");
-  errno = 0;
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"),
-                                                       &std::fclose);
-  if (!file) fail_write("PFM", path, errno);
-  // A negative scale marks little-endian data; rows are stored bottom to top.
-  std::fprintf(file.get(), "PF\n%d %d\n-1.0\n", width, height);
-  for (int y = height - 1; y >= 0; --y) {
-    const Vec3f* row = rgb.data() + static_cast<std::size_t>(y) * width;
-    for (int x = 0; x < width; ++x) {
-      const float values[3] = {row[x].x, row[x].y, row[x].z};
-      std::fwrite(values, sizeof(float), 3, file.get());
+    throw OutputError(path + ": cannot write PFM (the image size does not match its data)");
+  write_output_file(path, "PFM", [&](std::FILE* file) {
+    // A negative scale marks little-endian data; rows are stored bottom to top.
+    std::fprintf(file, "PF\n%d %d\n-1.0\n", width, height);
+    std::vector<float> row(static_cast<std::size_t>(width) * 3);
+    for (int y = height - 1; y >= 0; --y) {
+      const Vec3f* pixel = rgb.data() + static_cast<std::size_t>(y) * width;
+      for (int x = 0; x < width; ++x) {
+        row[3 * x] = pixel[x].x;
+        row[3 * x + 1] = pixel[x].y;
+        row[3 * x + 2] = pixel[x].z;
+      }
+      if (std::fwrite(row.data(), sizeof(float), row.size(), file) != row.size()) return;
     }
-  }
-  if (std::ferror(file.get()) || std::fclose(file.release()) != 0)
-    fail_write("PFM", path, errno);
+  });
 }
 
 void write_image(const std::string& path, const Image& image) {

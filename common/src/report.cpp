@@ -2,16 +2,14 @@
 #include "rt/report.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
+#include <cstdio>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "rt/error.h"
+#include "rt/output_file.h"
 
 namespace rt {
 
@@ -114,12 +112,9 @@ std::string Report::to_json() const {
 }
 
 void Report::write_json(const std::string& path) const {
-  errno = 0;
-  std::ofstream file(path, std::ios::binary);
-  if (file) file << to_json();
-  if (!file || !file.flush())
-    throw OutputError("cannot write JSON report '" + path + "'" +
-                      (errno != 0 ? std::string(": ") + std::strerror(errno) : std::string()));
+  const std::string text = to_json();
+  write_output_file(path, "JSON report",
+                    [&](std::FILE* file) { std::fwrite(text.data(), 1, text.size(), file); });
 }
 
 } // namespace rt

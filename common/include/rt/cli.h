@@ -13,6 +13,11 @@
 namespace rt {
 
 inline constexpr int k_max_image_side = 16384; // larger images are refused as absurd
+// The most pixels of one image: 2^25, 8K UHD (7680 x 4320) and a little more. What a small
+// machine (2 cores, a few GB) can promise: the image, each pixel's hit and the chapters'
+// per-pixel records take about 1.5 GB there, and the CPU backend traces it in minutes, with
+// progress lines.
+inline constexpr long long k_max_image_pixels = 1LL << 25;
 
 struct CommonOptions {
   int width = 1920;   // image width in pixels
@@ -34,7 +39,11 @@ CLI::Validator finite_range(double lo, double hi);
 CLI::Option* add_on_off_option(CLI::App& app, const std::string& name, bool& value,
                                const std::string& help);
 
-// Adds --width, --height, --output, --backend, --frames and --json to `app`.
+// Adds a paragraph to the end of `app`'s --help text (its footer), after what is there.
+void add_help_paragraph(CLI::App& app, const std::string& paragraph);
+
+// Adds --width, --height, --output, --backend, --frames and --json to `app`; refuses, after
+// parsing, an image of more than k_max_image_pixels pixels. Sets the app's final callback.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
 // Parses the command line and runs `body`. Prints "<program>: error: <message>" on any error

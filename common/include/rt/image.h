@@ -34,13 +34,16 @@ struct Image {
   }
 };
 
-// Writes an 8-bit PNG; throws OutputError naming the path if it cannot.
+// Writes an 8-bit PNG; throws OutputError naming the path if it cannot. Like every output,
+// through write_output_file (rt/output_file.h): a failure leaves the path as it was.
 void write_png(const std::string& path, const Image& image);
 // Writes a PFM (little-endian, bottom row first as the format defines); throws OutputError.
 void write_pfm(const std::string& path, int width, int height, std::span<const Vec3f> rgb);
 // PNG or PFM by the path's extension (.png / .pfm); other extensions are a UsageError.
 void write_image(const std::string& path, const Image& image);
-// Throws UsageError unless the path ends in .png or .pfm.
+// Throws UsageError unless the path ends in .png or .pfm, and OutputError when it can never
+// be written (rt/output_file.h: a directory, a folder that does not exist...), so that a
+// program can refuse it before its work instead of after.
 void check_image_path(const std::string& path);
 
 // How many pixels differ between two images of the same size.

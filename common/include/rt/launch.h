@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rt/backend.h"
+#include "rt/cpu_progress.h"
 #include "rt/error.h"
 #include "rt/hd.h"
 
@@ -61,14 +62,20 @@ void for_each_pixel_gpu(Extent extent, PixelFn fn, BlockShape block = {},
 template <class PixelFn> void for_each_pixel_cpu(Extent extent, PixelFn fn) {
   if (extent.width <= 0 || extent.height <= 0) return;
   std::atomic<int> next_row{0}; // rows are handed out one at a time: cheap load balancing
-  auto worker = [&] {
-    for (int y = next_row++; y < extent.height; y = next_row++)
+  std::atomic<int> rows_done{0};
+  auto work = [&](auto after_row) {
+    for (int y = next_row++; y < extent.height; y = next_row++) {
       for (int x = 0; x < extent.width; ++x) fn(x, y);
+      after_row(++rows_done);
+    }
   };
   const int thread_count = std::min(cpu_thread_count(), extent.height);
+  // Long work says how far it has come (rt/cpu_progress.h). Made before the threads, it is
+  // destroyed after they are joined, when every row is done.
+  CpuProgress progress(extent.height, "rows");
   std::vector<std::jthread> threads;
-  for (int t = 1; t < thread_count; ++t) threads.emplace_back(worker);
-  worker(); // the calling thread works too
+  for (int t = 1; t < thread_count; ++t) threads.emplace_back(work, [](int) {});
+  work([&](int done) { progress.update(done); }); // the calling thread works, and reports
 }
 // [/listing:launch_cpu]
 
