@@ -127,18 +127,6 @@ RT_HD inline float grid_step(std::uint8_t exponent) {
   return step;
 }
 
-// An 8-bit grid coordinate as a float, exactly. On the GPU, float(q) is an integer-to-float
-// conversion, which Hopper runs at a quarter of the rate of float arithmetic, and a compressed
-// node needs 48 of them; instead the byte goes into the mantissa of 2^23 (the float 2^23 + q,
-// exact since q < 2^23) and 2^23 is taken off again, one bitwise or and one exact subtraction.
-RT_HD inline float byte_to_float(std::uint8_t q) {
-#if defined(__CUDA_ARCH__)
-  return __uint_as_float(0x4B000000u | q) - 8388608.0f;
-#else
-  return float(q);
-#endif
-}
-
 // [listing:dequantise]
 // A quantised plane back in float: q * step + origin. The product is exact (q has 8 bits,
 // step is a power of two between 2^-126 and 2^120, so q * step is a normal float or 0), so
@@ -146,7 +134,7 @@ RT_HD inline float byte_to_float(std::uint8_t q) {
 // then add give the same float, and the build, which chose q with this very function,
 // guarantees that float lies on the outer side of the child's exact box.
 RT_HD inline float dequantise(std::uint8_t q, float step, float origin) {
-  return byte_to_float(q) * step + origin;
+  return float(q) * step + origin;
 }
 // [/listing:dequantise]
 inline constexpr int k_min_grid_exponent = -126; // the smallest normal float's
