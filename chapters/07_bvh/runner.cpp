@@ -425,6 +425,21 @@ std::vector<SceneResult> run_benchmark(const std::vector<std::string>& scenes,
   return results;
 }
 
+BackendRuns run_scene_on_each(const std::vector<Backend>& backends, const SceneInput& input,
+                              const std::vector<TracerMaker>& makers,
+                              const RunnerOptions& options, Report& report) {
+  BackendRuns runs;
+  for (const Backend backend : backends) {
+    RunnerOptions o = options;
+    o.backend = backend;
+    o.count_work = options.count_work && backend == Backend::cpu;
+    const SceneResult result = run_scene(input, makers, o, report);
+    if (runs.first.empty()) runs.first.push_back(result);
+    runs.problems += result.problems;
+  }
+  return runs;
+}
+
 std::vector<MeshHit> trace_with(const Tracer& tracer, Backend backend, Query query,
                                 std::span<const RayF> rays) {
   if (!tracer.runs_on(backend))

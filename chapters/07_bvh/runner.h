@@ -82,6 +82,16 @@ struct SceneInput {
 SceneResult run_scene(const SceneInput& input, const std::vector<TracerMaker>& makers,
                       const RunnerOptions& options, Report& report);
 
+// A chapter's own report: the runner on one scene once per backend of `backends` (the GPU
+// first, where there is one), rows into `report`. Work is counted on the CPU only, where asked.
+struct BackendRuns {
+  std::vector<SceneResult> first; // the first backend's figures: what the tables show
+  long long problems = 0;         // every backend's
+};
+BackendRuns run_scene_on_each(const std::vector<Backend>& backends, const SceneInput& input,
+                              const std::vector<TracerMaker>& makers,
+                              const RunnerOptions& options, Report& report);
+
 // The summary as a Markdown table for one tracer (what chapter 07's book prints): Mrays/s per
 // ray type with the share of the industry's figures for the same GPU where `anchors` has them,
 // the build, the memory and the shaded frame.

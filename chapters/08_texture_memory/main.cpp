@@ -112,8 +112,7 @@ int run(ChapterOptions& options) {
   std::optional<DeviceTrees> d_trees; // uploaded for the first GPU frame
   ch07::RunnerOptions runner = runner_options(options, backend, options.common.extent());
   runner.reference_rays = options.reference_rays;
-  std::vector<ch07::SceneResult> results;
-  long long problems = 0;
+  ch07::BackendRuns runs;
   const ch03::ProgramParts parts{
       .chapter = "ch08",
       .window_title = "memory spaces",
@@ -147,19 +146,13 @@ int run(ChapterOptions& options) {
             rows.add_context("scene", options.query.scene_path + ", " +
                                           group_digits(std::ssize(scene.mesh.triangles)) +
                                           " triangles");
-            for (const Backend b : report_backends(backend, options.skip_cpu)) {
-              runner.backend = b;
-              const ch07::SceneResult result =
-                  ch07::run_scene({options.query.scene_path},
-                                  {memory_path_tracers(options.paths, true)}, runner, rows);
-              if (results.empty()) results.push_back(result);
-              problems += result.problems;
-            }
-            runner.backend = backend;
+            runs = ch07::run_scene_on_each(
+                report_backends(backend, options.skip_cpu), {options.query.scene_path},
+                {memory_path_tracers(options.paths, true)}, runner, rows);
           },
   };
   const int code = ch03::run_window_or_headless(options, backend, parts, report);
-  if (!results.empty()) print_tables(results, runner, problems);
+  if (!runs.first.empty()) print_tables(runs.first, runner, runs.problems);
   return code;
 }
 

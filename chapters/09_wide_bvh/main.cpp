@@ -55,7 +55,7 @@ ch07::RunnerOptions runner_options(const ChapterOptions& options, Backend backen
   runner.extent = extent;
   runner.backend = backend;
   runner.frames = options.common.frames;
-  runner.count_work = backend == Backend::cpu;
+  runner.count_work = backend == Backend::cpu; // the CPU's work counters, on CPU runs only
   return runner;
 }
 
@@ -111,8 +111,8 @@ int run(ChapterOptions& options) {
   std::optional<DeviceWideTree<CompressedNode>> d_tree; // uploaded for the first GPU frame
   ch07::RunnerOptions runner = runner_options(options, backend, options.common.extent());
   runner.reference_rays = options.reference_rays;
-  std::vector<ch07::SceneResult> results;
-  long long problems = 0;
+  runner.count_work = true; // run_scene_on_each counts on its CPU run alone
+  ch07::BackendRuns runs;
   const ch03::ProgramParts parts{
       .chapter = "ch09",
       .window_title = "wide compressed tree",
@@ -140,20 +140,13 @@ int run(ChapterOptions& options) {
             rows.add_context("scene", options.query.scene_path + ", " +
                                           group_digits(std::ssize(scene.mesh.triangles)) +
                                           " triangles");
-            for (const Backend b : report_backends(backend, options.skip_cpu)) {
-              runner.backend = b;
-              runner.count_work = b == Backend::cpu;
-              const ch07::SceneResult result = ch07::run_scene(
-                  {options.query.scene_path},
-                  {chapter_tracers(measured(options), build_rows(rows))}, runner, rows);
-              if (results.empty()) results.push_back(result);
-              problems += result.problems;
-            }
-            runner.backend = backend;
+            runs = ch07::run_scene_on_each(
+                report_backends(backend, options.skip_cpu), {options.query.scene_path},
+                {chapter_tracers(measured(options), build_rows(rows))}, runner, rows);
           },
   };
   const int code = ch03::run_window_or_headless(options, backend, parts, report);
-  if (!results.empty()) print_tables(results, runner, problems);
+  if (!runs.first.empty()) print_tables(runs.first, runner, runs.problems);
   return code;
 }
 
