@@ -4,6 +4,7 @@
 #include "camera_cli.h"
 #include "rt/backend_image.h"
 #include "rt/error.h"
+#include "rt/output_file.h"
 #include "rt/program_output.h"
 
 namespace rt::ch03 {
@@ -31,6 +32,7 @@ int run_program_main(CLI::App& app, int argc, char** argv, ProgramOptions& optio
     // --image-only measures nothing, so there would be no report to write.
     if (options.image_only && !options.common.json.empty())
       throw UsageError("--json writes the report, and --image-only makes none: give one");
+    if (!options.common.json.empty()) check_output_path(options.common.json, "the report");
     return body();
   });
 }

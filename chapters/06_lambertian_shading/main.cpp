@@ -24,6 +24,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   std::string scene_path; // empty: the built-in scene
   double scale = 1.0;     // the built-in scene's size
   int subdivisions = 2;
+  bool subdivisions_given = false;
   bool smooth = true;  // the image's shading
   bool shadows = true; // the image's shadows
   LightSettings lights;
@@ -52,6 +53,8 @@ ShadedScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
 int run(ChapterOptions& options) {
   if (!options.scene_path.empty() && options.scale != 1.0)
     throw UsageError("--scale works on the built-in scene only");
+  if (!options.scene_path.empty() && options.subdivisions_given)
+    throw UsageError("--subdivisions works on the built-in scene only");
   validate_lights(options.lights);
   ch03::validate_camera(options.camera);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
@@ -157,5 +160,8 @@ int main(int argc, char** argv) {
   app.add_flag("--skip-cpu", options.skip_cpu,
                "On the GPU, leave out the CPU rows (brute force on a large model is slow)");
   ch03::add_image_only_option(app, options);
-  return ch03::run_program_main(app, argc, argv, options, [&] { return run(options); });
+  return ch03::run_program_main(app, argc, argv, options, [&] {
+    options.subdivisions_given = app.get_option("--subdivisions")->count() > 0;
+    return run(options);
+  });
 }

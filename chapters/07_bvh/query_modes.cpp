@@ -9,6 +9,7 @@
 #include "obj_loader.h"
 #include "ray_io.h"
 #include "rt/error.h"
+#include "rt/output_file.h"
 #include "rt/report.h"
 
 namespace rt::ch07 {
@@ -79,12 +80,14 @@ int run_dump_hits(const QueryOptions& q, Backend backend, const QueryScene& s,
 
 void add_query_options(CLI::App& app, QueryOptions& q,
                        const std::string& what_benchmark_measures) {
-  app.add_option("--scene", q.scene_path, "OBJ file to trace (.obj or gzip'd)")
+  app.add_option("--scene", q.scene_path,
+                 "OBJ file to trace (.obj or gzip'd; " + ch05::describe_load_limits() + ")")
       ->check(CLI::ExistingFile)
       ->capture_default_str();
   app.add_option("--rays", q.rays_path,
                  "Trace the rays of this file (per ray: origin xyz, direction xyz, tmin, tmax; "
-                 "float32 little-endian)");
+                 "float32 little-endian; " +
+                     describe_ray_file_limits() + ")");
   app.add_option("--hits", q.hits_path,
                  "With --rays: write the closest hit of each ray here (float32 t, int32 id)");
   app.add_option("--dump-hits", q.dump_hits_path,
@@ -144,6 +147,9 @@ void check_query_options(const QueryOptions& q, const CLI::App& app) {
                      "--dump-hits");
   if (app.get_option("--models")->count() > 0 && !q.benchmark)
     throw UsageError("--models goes with --benchmark");
+  // Outputs that cannot be written are refused before the work, not after it.
+  if (!q.hits_path.empty()) check_output_path(q.hits_path, "hits");
+  if (!q.dump_hits_path.empty()) check_output_path(q.dump_hits_path, "hits");
 }
 
 std::vector<std::string> benchmark_scenes(const QueryOptions& q) {

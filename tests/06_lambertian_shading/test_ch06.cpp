@@ -543,6 +543,8 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch06]
   const Case cases[] = {{"--scene " + (folder / "missing.obj").string(), 2},
                         {"--scene " + broken, 1},
                         {"--scene " + good + " --scale 10", 2},
+                        {"--scene " + good + " --subdivisions 3", 2},
+                        {"--json " + (folder / "no" / "such" / "r.json").string(), 1},
                         {"--light-dir 0,0,0", 2},
                         {"--light-dir 1,2", 2},
                         {"--shading glossy", 2},

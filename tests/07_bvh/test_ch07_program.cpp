@@ -139,6 +139,8 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch07]
       {"--benchmark --dump-hits " + hits + " " + k_room, 2, "--benchmark measures"},
       {"--models " + folder.string(), 2, "--models goes with --benchmark"},
       {"--image-only --json " + hits, 2, "--json"},
+      // An output that cannot be written is refused before the work.
+      {"--rays " + nan_rays + " --hits " + folder.string(), 1, "hits"},
       {"--dump-hits " + (folder / "no" / "such" / "dir.bin").string() + " --scene " + k_room +
            " --width 8 --height 8",
        1, "dir.bin"},
