@@ -25,13 +25,9 @@ using namespace rt::ch07;
 namespace {
 
 using rt::testing::contains;
-using rt::testing::line_count;
 using rt::testing::ProgramRun;
 
-ProgramRun run_program(const std::string& arguments) {
-  return rt::testing::run_command(std::string(RT_CH09_PROGRAM) + " --headless --backend cpu " +
-                                  arguments);
-}
+const rt::testing::HeadlessCpuProgram run_program(RT_CH09_PROGRAM);
 
 const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
 
@@ -153,12 +149,7 @@ TEST_CASE("program: ray files and hit dumps through the compressed tree", "[ch09
 TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch09]") {
   const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
   const std::string hits = (folder / "hits.bin").string();
-  struct Case {
-    std::string arguments;
-    int exit_code;
-    const char* says;
-  };
-  const Case cases[] = {
+  const rt::testing::RefusedInput cases[] = {
       {"--tracer cwbvh16", 2, "the tracers are binary, wide4, wide8, cwbvh8, cwbvh8_greedy"},
       {"--reference-rays 0", 2, "reference-rays"},
       {"--scene " + (folder / "missing.obj").string(), 2, "missing.obj"},
@@ -169,12 +160,5 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch09]
       {"--ray-type shiny --dump-hits " + hits, 2, "ray-type"},
       {"--image-only --output ''", 2, "--output"},
   };
-  for (const Case& c : cases) {
-    CAPTURE(c.arguments);
-    const ProgramRun run = run_program(c.arguments);
-    INFO(run.output);
-    CHECK(run.exit_code == c.exit_code);
-    CHECK(line_count(run.output) == 1);
-    CHECK_THAT(run.output, contains(c.says));
-  }
+  rt::testing::check_refused(run_program, cases);
 }
