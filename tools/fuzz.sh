@@ -4,11 +4,10 @@
 # tests/05_obj_loading/corpus/, then chapter 07's ray-file reader, starting from a few ray files
 # this script writes.
 #   tools/fuzz.sh [obj-seconds] [ray-seconds]     (default 30 and 15)
-# Needs clang and libFuzzer (Debian: clang, libclang-rt-dev) and the CUDA toolkit's headers (the
-# ray-file reader's header includes chapter 04's, which declares device buffers); no GPU: both
-# readers are plain C++. Exits non-zero on any crash, leak, undefined behaviour, timeout or broken
-# invariant; the input that caused it is saved in build/fuzz/ (replay: build/fuzz/fuzz_obj FILE
-# or build/fuzz/fuzz_rays FILE).
+# Needs clang and libFuzzer (Debian: clang, libclang-rt-dev); no CUDA toolkit and no GPU: both
+# readers are plain C++ (this script compiles them without CUDA's headers). Exits non-zero on
+# any crash, leak, undefined behaviour, timeout or broken invariant; the input that caused it
+# is saved in build/fuzz/ (replay: build/fuzz/fuzz_obj FILE or build/fuzz/fuzz_rays FILE).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 obj_seconds="${1:-30}"
@@ -23,11 +22,8 @@ fi
 
 flags=(-std=c++20 -g -O1 -fno-omit-frame-pointer "-fsanitize=address,undefined"
        -fno-sanitize-recover=all)
-source tools/env.sh
-cuda_include="$(dirname "$(command -v nvcc)")/../include"
 includes=(-Icommon/include -Ichapters/03_spheres -Ichapters/04_moller_trumbore
-          -Ichapters/05_obj_loading -Ichapters/07_bvh -Itests/05_obj_loading
-          -isystem "$cuda_include")
+          -Ichapters/05_obj_loading -Ichapters/07_bvh -Itests/05_obj_loading)
 
 compile() { # source file, object file
   clang++ "${flags[@]}" -fsanitize=fuzzer-no-link -DTINYOBJLOADER_USE_DOUBLE -Wall -Wextra \

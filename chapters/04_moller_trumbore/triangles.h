@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mesh_gen.h"
+#include "mesh_hit.h"
 #include "rt/device_buffer.h"
 #include "triangle.h"
 
@@ -40,13 +41,6 @@ struct MeshView {
 inline MeshView host_view(const Mesh& mesh) {
   return {mesh.vertices.data(), mesh.triangles.data(), static_cast<int>(mesh.triangles.size())};
 }
-
-// The closest hit of a ray: t = +infinity and triangle = -1 for a miss (the layout of the
-// benchmark's hit buffer).
-struct MeshHit {
-  float t = std::numeric_limits<float>::infinity();
-  int triangle = -1;
-};
 
 // Every triangle, keeping the nearest hit: tmax shrinks as hits are found.
 RT_HD inline MeshHit closest_hit(TriangleVariant variant, MeshView mesh, RayF ray) {

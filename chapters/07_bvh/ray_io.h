@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "mesh_hit.h"
 #include "ray.h"
-#include "triangles.h"
 
 namespace rt::ch07 {
 
