@@ -57,10 +57,11 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method);
 WideLayout build_wide_layout(const ch04::Mesh& mesh, int width, Collapse method,
                              const ch07::BuildOptions& base = {});
 
-// The stored layouts. pack_wide<N> needs a layout of width <= N (N = 4 or 8); compress one of
-// width <= 8. Both throw InputError when a node's box cannot be stored (compress: wider than
-// 255 * 2^120, about 3.4e38).
-template <int N> WideTree<WideNode<N>> pack_wide(const WideLayout& layout);
+// The stored layouts. pack_wide<N> needs a layout of width <= N (N = 4 or 8; with
+// PackedTriangles N = 4 only); compress one of width <= 8. Both throw InputError when a node's
+// box cannot be stored (compress: wider than 255 * 2^120, about 3.4e38).
+template <int N, class Triangles = AlignedTriangles>
+WideTree<WideNode<N>, Triangles> pack_wide(const WideLayout& layout);
 CompressedBvh compress(const WideLayout& layout);
 
 // [listing:axis_grid]
@@ -89,7 +90,8 @@ Aabb child_box_of(const CompressedNode& node, int c);
 // containing the exact bounds of the triangles below it; child counts, meta bytes and imask
 // consistent; interior children where child_base and imask say; every node reached once;
 // depth within the traversal stack's bound. One line per problem; empty means valid.
-template <class Node>
-std::vector<std::string> check_wide_tree(const WideTree<Node>& tree, const ch04::Mesh& mesh);
+template <class Node, class Triangles>
+std::vector<std::string> check_wide_tree(const WideTree<Node, Triangles>& tree,
+                                         const ch04::Mesh& mesh);
 
 } // namespace rt::ch09

@@ -1,7 +1,8 @@
 // Chapter 09: wide trees as they lie in memory. Chapter 07's binary tree collapsed so that a
 // node has up to 8 children, in two layouts: plain float boxes (WideNode<4>, WideNode<8>) and
 // the compressed 80-byte node of Ylitie, Karras & Laine 2017 (CompressedNode), whose child
-// boxes are 8-bit grid coordinates rounded outward. Triangles are chapter 08's 16-byte records.
+// boxes are 8-bit grid coordinates rounded outward. Triangles are chapter 08's 16-byte records,
+// or the same data packed into 40 bytes.
 #pragma once
 
 #include <cstddef>
@@ -158,20 +159,48 @@ template <class Node> RT_HD Node load_node(const Node* p) {
 #endif
 }
 
-// What the traversal reads: nodes of one type, and the triangles in the order of the leaves,
-// 3 records each (chapter 08's layout: v0 and the mesh's id, v1, v2). Host or device pointers.
-template <class Node> struct WideTreeView {
+// [listing:triangle_stores]
+// The triangles in the order of the leaves, as the traversal reads them: 36 bytes of
+// coordinates and the mesh's 4-byte id, in one of two layouts.
+//
+// Chapter 08's records, 48 bytes: three 16-byte loads, 8 bytes of padding.
+//   record 0: v0.x v0.y v0.z id    record 1: v1.x v1.y v1.z -    record 2: v2.x v2.y v2.z -
+struct AlignedTriangles {
+  using Record = float4;
+  static constexpr int k_records = 3;
+  RT_HD static TriangleF triangle(const Record* r) {
+    return ch08::triangle_from_records(r[0], r[1], r[2]);
+  }
+  RT_HD static int id(const Record* r) { return ch08::bits_as_int(r[0].w); }
+};
+
+// The same 40 bytes without the padding: five 8-byte loads.
+//   v0.x v0.y | v0.z id | v1.x v1.y | v1.z v2.x | v2.y v2.z
+struct PackedTriangles {
+  using Record = float2;
+  static constexpr int k_records = 5;
+  RT_HD static TriangleF triangle(const Record* r) {
+    const float2 a = r[0], b = r[1], c = r[2], d = r[3], e = r[4];
+    return {{a.x, a.y, b.x}, {c.x, c.y, d.x}, {d.y, e.x, e.y}};
+  }
+  RT_HD static int id(const Record* r) { return ch08::bits_as_int(r[1].y); }
+};
+// [/listing:triangle_stores]
+
+// What the traversal reads: nodes of one type and the triangles in one of the stores above.
+// Host or device pointers.
+template <class Node, class Triangles = AlignedTriangles> struct WideTreeView {
+  using Record = typename Triangles::Record;
   const Node* nodes = nullptr;
-  const float4* triangles = nullptr;
+  const Record* triangles = nullptr;
   int node_count = 0; // 0 only for a mesh with no triangles
 
   RT_HD Node node(int i) const { return load_node(nodes + i); }
   RT_HD TriangleF triangle(int k) const {
-    const float4* r = triangles + ch08::k_triangle_records * k;
-    return ch08::triangle_from_records(r[0], r[1], r[2]);
+    return Triangles::triangle(triangles + Triangles::k_records * k);
   }
   RT_HD int triangle_id(int k) const {
-    return ch08::bits_as_int(triangles[ch08::k_triangle_records * k].w);
+    return Triangles::id(triangles + Triangles::k_records * k);
   }
 };
 
@@ -202,17 +231,17 @@ struct WideStats {
 };
 
 // A wide tree, owned in host memory.
-template <class Node> struct WideTree {
+template <class Node, class Triangles = AlignedTriangles> struct WideTree {
+  using View = WideTreeView<Node, Triangles>;
   std::vector<Node> nodes; // node 0 is the root
-  std::vector<float4> triangles;
+  std::vector<typename Triangles::Record> triangles;
   WideStats stats;
 
-  WideTreeView<Node> view() const {
-    return {nodes.data(), triangles.data(), static_cast<int>(nodes.size())};
-  }
+  View view() const { return {nodes.data(), triangles.data(), static_cast<int>(nodes.size())}; }
 };
 
 using Wide4Bvh = WideTree<WideNode<4>>;
+using Wide4PackedBvh = WideTree<WideNode<4>, PackedTriangles>;
 using Wide8Bvh = WideTree<WideNode<8>>;
 using CompressedBvh = WideTree<CompressedNode>;
 

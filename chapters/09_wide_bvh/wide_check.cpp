@@ -29,13 +29,13 @@ private:
   long long hidden_ = 0;
 };
 
-template <class Node> class Checker {
+template <class Node, class Triangles> class Checker {
 public:
-  Checker(const WideTree<Node>& tree, const ch04::Mesh& mesh, Problems& problems)
+  Checker(const WideTree<Node, Triangles>& tree, const ch04::Mesh& mesh, Problems& problems)
       : tree_(tree.view()), mesh_(mesh), problems_(problems), reached_(tree.nodes.size(), 0),
-        record_uses_(tree.triangles.size() / ch08::k_triangle_records, 0),
+        record_uses_(tree.triangles.size() / Triangles::k_records, 0),
         id_uses_(mesh.triangles.size(), 0) {
-    if (tree.triangles.size() != mesh.triangles.size() * ch08::k_triangle_records)
+    if (tree.triangles.size() != mesh.triangles.size() * Triangles::k_records)
       problems_.add(std::to_string(tree.triangles.size()) + " triangle records for " +
                     std::to_string(mesh.triangles.size()) + " mesh triangles");
   }
@@ -159,7 +159,7 @@ private:
     return box;
   }
 
-  const WideTreeView<Node> tree_;
+  const WideTreeView<Node, Triangles> tree_;
   const ch04::Mesh& mesh_;
   Problems& problems_;
   std::vector<unsigned char> reached_;
@@ -168,18 +168,17 @@ private:
 
 } // namespace
 
-template <class Node>
-std::vector<std::string> check_wide_tree(const WideTree<Node>& tree, const ch04::Mesh& mesh) {
+template <class Node, class Triangles>
+std::vector<std::string> check_wide_tree(const WideTree<Node, Triangles>& tree,
+                                         const ch04::Mesh& mesh) {
   Problems problems;
-  Checker<Node>(tree, mesh, problems).run();
+  Checker<Node, Triangles>(tree, mesh, problems).run();
   return problems.finish();
 }
 
-template std::vector<std::string> check_wide_tree(const WideTree<WideNode<4>>&,
-                                                  const ch04::Mesh&);
-template std::vector<std::string> check_wide_tree(const WideTree<WideNode<8>>&,
-                                                  const ch04::Mesh&);
-template std::vector<std::string> check_wide_tree(const WideTree<CompressedNode>&,
-                                                  const ch04::Mesh&);
+template std::vector<std::string> check_wide_tree(const Wide4Bvh&, const ch04::Mesh&);
+template std::vector<std::string> check_wide_tree(const Wide8Bvh&, const ch04::Mesh&);
+template std::vector<std::string> check_wide_tree(const CompressedBvh&, const ch04::Mesh&);
+template std::vector<std::string> check_wide_tree(const Wide4PackedBvh&, const ch04::Mesh&);
 
 } // namespace rt::ch09

@@ -10,34 +10,38 @@
 namespace rt::ch09 {
 namespace {
 
-// Chapter 08's triangle records: v0 with the mesh's id in w, then v1 and v2.
-std::vector<float4> triangle_records(const WideLayout& layout) {
-  std::vector<float4> records;
-  records.reserve(layout.triangles.size() * ch08::k_triangle_records);
-  for (std::size_t k = 0; k < layout.triangles.size(); ++k) {
-    const TriangleF& t = layout.triangles[k];
-    float id;
-    std::memcpy(&id, &layout.triangle_ids[k], sizeof id);
-    records.push_back({t.v0.x, t.v0.y, t.v0.z, id});
-    records.push_back({t.v1.x, t.v1.y, t.v1.z, 0.0f});
-    records.push_back({t.v2.x, t.v2.y, t.v2.z, 0.0f});
-  }
-  return records;
+// The triangle records of wide_bvh.h's two stores, in the leaves' order.
+void append_records(std::vector<float4>& out, const TriangleF& t, float id) {
+  out.push_back({t.v0.x, t.v0.y, t.v0.z, id});
+  out.push_back({t.v1.x, t.v1.y, t.v1.z, 0.0f});
+  out.push_back({t.v2.x, t.v2.y, t.v2.z, 0.0f});
+}
+void append_records(std::vector<float2>& out, const TriangleF& t, float id) {
+  out.push_back({t.v0.x, t.v0.y});
+  out.push_back({t.v0.z, id});
+  out.push_back({t.v1.x, t.v1.y});
+  out.push_back({t.v1.z, t.v2.x});
+  out.push_back({t.v2.y, t.v2.z});
 }
 
 // The triangle records and the stats, the time since `start` added to the build's.
-template <class Node>
-void finish(WideTree<Node>& tree, const WideLayout& layout,
+template <class Node, class Triangles>
+void finish(WideTree<Node, Triangles>& tree, const WideLayout& layout,
             std::chrono::steady_clock::time_point start) {
-  tree.triangles = triangle_records(layout);
+  tree.triangles.reserve(layout.triangles.size() * Triangles::k_records);
+  for (std::size_t k = 0; k < layout.triangles.size(); ++k) {
+    float id;
+    std::memcpy(&id, &layout.triangle_ids[k], sizeof id);
+    append_records(tree.triangles, layout.triangles[k], id);
+  }
   tree.stats = layout.stats;
   tree.stats.build_ms +=
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
           .count();
   if (!layout.triangles.empty())
-    tree.stats.bytes_per_triangle =
-        double(tree.nodes.size() * sizeof(Node) + tree.triangles.size() * sizeof(float4)) /
-        double(layout.triangles.size());
+    tree.stats.bytes_per_triangle = double(tree.nodes.size() * sizeof(Node) +
+                                           tree.triangles.size() * sizeof(tree.triangles[0])) /
+                                    double(layout.triangles.size());
 }
 
 // The non-empty slots of a node, in slot order: the positions its children take in a stored
@@ -51,12 +55,13 @@ int used_slots(const SlotNode& node, int (&slots)[k_slots]) {
 
 } // namespace
 
-template <int N> WideTree<WideNode<N>> pack_wide(const WideLayout& layout) {
+template <int N, class Triangles>
+WideTree<WideNode<N>, Triangles> pack_wide(const WideLayout& layout) {
   if (layout.width > N)
     throw InputError("a layout of width " + std::to_string(layout.width) +
                      " does not fit nodes of " + std::to_string(N));
   const auto start = std::chrono::steady_clock::now();
-  WideTree<WideNode<N>> tree;
+  WideTree<WideNode<N>, Triangles> tree;
   tree.nodes.reserve(layout.nodes.size());
   for (const SlotNode& from : layout.nodes) {
     WideNode<N> node{};
@@ -81,8 +86,9 @@ template <int N> WideTree<WideNode<N>> pack_wide(const WideLayout& layout) {
   return tree;
 }
 
-template WideTree<WideNode<4>> pack_wide<4>(const WideLayout&);
-template WideTree<WideNode<8>> pack_wide<8>(const WideLayout&);
+template Wide4Bvh pack_wide<4>(const WideLayout&);
+template Wide8Bvh pack_wide<8>(const WideLayout&);
+template Wide4PackedBvh pack_wide<4, PackedTriangles>(const WideLayout&);
 
 // [listing:quantise]
 // Rounding outward, and why it holds. dequantise(q) = fl(q * step + origin), and q * step is

@@ -8,8 +8,8 @@
 
 namespace rt::ch09 {
 
-template <class Node>
-void trace_wide_cpu(Query query, const WideTreeView<Node>& tree, std::span<const RayF> rays,
+template <class View>
+void trace_wide_cpu(Query query, const View& tree, std::span<const RayF> rays,
                     std::span<MeshHit> hits) {
   if (hits.size() != rays.size()) throw Error("trace_wide_cpu: one hit per ray");
   ch07::for_each_ray_cpu(rays.size(), [&](std::size_t i) {
@@ -19,8 +19,8 @@ void trace_wide_cpu(Query query, const WideTreeView<Node>& tree, std::span<const
   });
 }
 
-template <class Node>
-ch07::TraversalWork measure_wide_work(Query query, const WideTreeView<Node>& tree,
+template <class View>
+ch07::TraversalWork measure_wide_work(Query query, const View& tree,
                                       std::span<const RayF> rays) {
   long long nodes = 0, triangles = 0;
   int max_stack = 0;
@@ -38,14 +38,15 @@ ch07::TraversalWork measure_wide_work(Query query, const WideTreeView<Node>& tre
   return {double(nodes) / n, double(triangles) / n, max_stack};
 }
 
-#define RT_CH09_CPU_LAYOUT(Node)                                                               \
-  template void trace_wide_cpu<Node>(Query, const WideTreeView<Node>&, std::span<const RayF>,  \
+#define RT_CH09_CPU_LAYOUT(View)                                                               \
+  template void trace_wide_cpu<View>(Query, const View&, std::span<const RayF>,                \
                                      std::span<MeshHit>);                                      \
-  template ch07::TraversalWork measure_wide_work<Node>(Query, const WideTreeView<Node>&,       \
+  template ch07::TraversalWork measure_wide_work<View>(Query, const View&,                     \
                                                        std::span<const RayF>);
-RT_CH09_CPU_LAYOUT(WideNode<4>)
-RT_CH09_CPU_LAYOUT(WideNode<8>)
-RT_CH09_CPU_LAYOUT(CompressedNode)
+RT_CH09_CPU_LAYOUT(Wide4Bvh::View)
+RT_CH09_CPU_LAYOUT(Wide8Bvh::View)
+RT_CH09_CPU_LAYOUT(CompressedBvh::View)
+RT_CH09_CPU_LAYOUT(Wide4PackedBvh::View)
 #undef RT_CH09_CPU_LAYOUT
 
 } // namespace rt::ch09

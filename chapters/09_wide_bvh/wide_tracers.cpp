@@ -30,6 +30,7 @@ constexpr TracerInfo k_info[] = {
     {ChapterTracer::wide8, "wide8", "wide8"},
     {ChapterTracer::cwbvh8, "cwbvh8", "cwbvh8"},
     {ChapterTracer::cwbvh8_greedy, "cwbvh8 greedy", "cwbvh8_greedy"},
+    {ChapterTracer::wide4_packed, "wide4 packed", "wide4_packed"},
 };
 
 const TracerInfo& info(ChapterTracer tracer) {
@@ -39,9 +40,11 @@ const TracerInfo& info(ChapterTracer tracer) {
 }
 
 // A stored wide tree as a tracer: shared by its functions, on the GPU uploaded once.
-template <class Node>
-Tracer wide_tracer(ChapterTracer which, WideTree<Node> built, const TracerScene& scene) {
-  const auto tree = std::make_shared<const WideTree<Node>>(std::move(built));
+template <class Node, class Triangles>
+Tracer wide_tracer(ChapterTracer which, WideTree<Node, Triangles> built,
+                   const TracerScene& scene) {
+  using Tree = WideTree<Node, Triangles>;
+  const auto tree = std::make_shared<const Tree>(std::move(built));
   Tracer tracer;
   tracer.name = to_string(which);
   tracer.rule = ch07::HitRule::ties_allowed;
@@ -54,13 +57,15 @@ Tracer wide_tracer(ChapterTracer which, WideTree<Node> built, const TracerScene&
   };
   if (scene.backend == Backend::gpu) {
     ch05::check_device_memory(tree->nodes.size() * sizeof(Node) +
-                                  tree->triangles.size() * sizeof(float4),
+                                  tree->triangles.size() * sizeof(tree->triangles[0]),
                               scene.name);
-    const auto d_tree = std::make_shared<const DeviceWideTree<Node>>(*tree);
+    const auto d_tree = std::make_shared<const DeviceWideTree<Node, Triangles>>(*tree);
     tracer.trace_gpu = [d_tree](Query query, const RayF* d_rays, int count, MeshHit* d_hits) {
       trace_wide_gpu(query, d_tree->view(), d_rays, count, d_hits);
     };
-    tracer.registers = [](Query query) { return wide_kernel_registers<Node>(query); };
+    tracer.registers = [](Query query) {
+      return wide_kernel_registers<typename Tree::View>(query);
+    };
   }
   return tracer;
 }
@@ -85,7 +90,8 @@ Tracer make_wide(ChapterTracer which, BinaryTrees& binary, const TracerScene& sc
                  const BuildSink& on_build) {
   const Collapse collapse =
       which == ChapterTracer::cwbvh8_greedy ? Collapse::greedy : Collapse::sah;
-  const int width = which == ChapterTracer::wide4 ? 4 : 8;
+  const int width =
+      which == ChapterTracer::wide4 || which == ChapterTracer::wide4_packed ? 4 : 8;
   const ch07::Bvh& tree = binary.for_collapse(collapse);
   WideLayout layout = ch09::collapse(tree, width, collapse);
   layout.stats.build_ms += tree.stats.build_ms;
@@ -94,6 +100,11 @@ Tracer make_wide(ChapterTracer which, BinaryTrees& binary, const TracerScene& sc
   };
   if (which == ChapterTracer::wide4) {
     Wide4Bvh stored = pack_wide<4>(layout);
+    report(stored.stats);
+    return wide_tracer(which, std::move(stored), scene);
+  }
+  if (which == ChapterTracer::wide4_packed) {
+    Wide4PackedBvh stored = pack_wide<4, PackedTriangles>(layout);
     report(stored.stats);
     return wide_tracer(which, std::move(stored), scene);
   }

@@ -26,12 +26,13 @@ enum class ChapterTracer {
   wide8,         // SAH collapse to 8 children, float boxes
   cwbvh8,        // SAH collapse to 8 children, compressed 80-byte nodes (the paper's tree)
   cwbvh8_greedy, // greedy collapse to 8 children, compressed
+  wide4_packed,  // wide4 with its triangles in 40-byte records instead of 48
 };
 // [/listing:chapter_tracers]
 
-inline constexpr ChapterTracer k_all_tracers[] = {ChapterTracer::binary, ChapterTracer::wide4,
-                                                  ChapterTracer::wide8, ChapterTracer::cwbvh8,
-                                                  ChapterTracer::cwbvh8_greedy};
+inline constexpr ChapterTracer k_all_tracers[] = {
+    ChapterTracer::binary, ChapterTracer::wide4,         ChapterTracer::wide8,
+    ChapterTracer::cwbvh8, ChapterTracer::cwbvh8_greedy, ChapterTracer::wide4_packed};
 
 // The name in report rows ("binary (ch07)", "cwbvh8 greedy", ...).
 const char* to_string(ChapterTracer tracer);

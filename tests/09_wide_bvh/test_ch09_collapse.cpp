@@ -24,7 +24,8 @@ using namespace rt::ch09::testing;
 
 namespace {
 
-template <class Node> void require_valid(const WideTree<Node>& tree, const Mesh& mesh) {
+template <class Node, class Triangles>
+void require_valid(const WideTree<Node, Triangles>& tree, const Mesh& mesh) {
   const std::vector<std::string> problems = check_wide_tree(tree, mesh);
   for (const std::string& p : problems) UNSCOPED_INFO(p);
   CHECK(problems.empty());
@@ -272,6 +273,7 @@ TEST_CASE("degenerate meshes: none, one and two triangles, all centroids equal",
     require_valid(trees.wide8_sah, *mesh);
     require_valid(trees.compressed_sah, *mesh);
     require_valid(trees.compressed_greedy, *mesh);
+    require_valid(trees.wide4_packed, *mesh);
     CHECK(trees.compressed_sah.nodes.empty() == mesh->triangles.empty());
     const std::vector<RayF> rays = rays_for(*mesh, 300, 5, {1.0f, 2.0f, 3.0f});
     for_each_tree(trees, [&](const char* name, const auto& view) {

@@ -20,12 +20,12 @@ using namespace rt::ch09::testing;
 
 namespace {
 
-template <class Node>
-int gpu_cpu_differences(const WideTree<Node>& tree, const std::vector<RayF>& rays,
+template <class Node, class Triangles>
+int gpu_cpu_differences(const WideTree<Node, Triangles>& tree, const std::vector<RayF>& rays,
                         Query query) {
   std::vector<MeshHit> cpu(rays.size());
   trace_wide_cpu(query, tree.view(), rays, cpu);
-  const DeviceWideTree<Node> d_tree(tree);
+  const DeviceWideTree<Node, Triangles> d_tree(tree);
   const DeviceBuffer<RayF> d_rays{std::span<const RayF>(rays)};
   DeviceBuffer<MeshHit> d_hits(rays.size());
   trace_wide_gpu(query, d_tree.view(), d_rays.data(), static_cast<int>(rays.size()),
@@ -53,9 +53,10 @@ TEST_CASE("gpu: every wide tree gives the CPU's hits bit for bit", "[ch09][gpu]"
       CHECK(gpu_cpu_differences(trees.wide8_sah, rays, query) == 0);
       CHECK(gpu_cpu_differences(trees.compressed_sah, rays, query) == 0);
       CHECK(gpu_cpu_differences(trees.compressed_greedy, rays, query) == 0);
+      CHECK(gpu_cpu_differences(trees.wide4_packed, rays, query) == 0);
     }
   }
-  CHECK(wide_kernel_registers<CompressedNode>(Query::closest) > 0);
+  CHECK(wide_kernel_registers<CompressedBvh::View>(Query::closest) > 0);
 }
 
 TEST_CASE("gpu: the shaded frame through the compressed tree is the CPU's", "[ch09][gpu]") {

@@ -44,7 +44,8 @@ TEST_CASE("program: the report measures every tracer, each with chapter 07's hit
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
   for (const char* type : {"primary", "ao", "diffuse"})
-    for (const char* tracer : {"binary (ch07)", "wide4", "wide8", "cwbvh8", "cwbvh8 greedy"})
+    for (const char* tracer :
+         {"binary (ch07)", "wide4", "wide8", "cwbvh8", "cwbvh8 greedy", "wide4 packed"})
       CHECK_THAT(run.output,
                  contains(std::string("cornell_room, ") + type + ", " + tracer + "  "));
   CHECK_THAT(run.output, contains("cornell_room, build cwbvh8 (CPU)"));
@@ -68,8 +69,8 @@ TEST_CASE("program: the report measures every tracer, each with chapter 07's hit
     CHECK(row.at("metrics").at("mrays_per_s").get<double>() > 0.0);
     ++traced;
   }
-  CHECK(traced == 15); // 3 ray types x 5 tracers
-  CHECK(builds == 4);  // the wide trees
+  CHECK(traced == 18); // 3 ray types x 6 tracers
+  CHECK(builds == 5);  // the wide trees
 }
 
 TEST_CASE("program: --tracer narrows the tracers measured", "[ch09]") {

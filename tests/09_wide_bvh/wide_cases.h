@@ -104,6 +104,7 @@ struct WideTrees {
   Wide4Bvh wide4_sah, wide4_greedy;
   Wide8Bvh wide8_sah, wide8_greedy;
   CompressedBvh compressed_sah, compressed_greedy;
+  Wide4PackedBvh wide4_packed; // the SAH collapse, triangles in 40-byte records
 };
 
 inline WideTrees all_wide_trees(const Mesh& mesh) {
@@ -111,8 +112,13 @@ inline WideTrees all_wide_trees(const Mesh& mesh) {
   const WideLayout greedy4 = build_wide_layout(mesh, 4, Collapse::greedy);
   const WideLayout sah8 = build_wide_layout(mesh, 8, Collapse::sah);
   const WideLayout greedy8 = build_wide_layout(mesh, 8, Collapse::greedy);
-  return {pack_wide<4>(sah4),    pack_wide<4>(greedy4), pack_wide<8>(sah8),
-          pack_wide<8>(greedy8), compress(sah8),        compress(greedy8)};
+  return {pack_wide<4>(sah4),
+          pack_wide<4>(greedy4),
+          pack_wide<8>(sah8),
+          pack_wide<8>(greedy8),
+          compress(sah8),
+          compress(greedy8),
+          pack_wide<4, PackedTriangles>(sah4)};
 }
 
 // Calls fn(name, view) for each tree of `trees`.
@@ -123,6 +129,7 @@ template <class Fn> void for_each_tree(const WideTrees& trees, Fn fn) {
   fn("wide8 greedy", trees.wide8_greedy.view());
   fn("cwbvh8 sah", trees.compressed_sah.view());
   fn("cwbvh8 greedy", trees.compressed_greedy.view());
+  fn("wide4 packed", trees.wide4_packed.view());
 }
 
 template <Query kQuery, class Tree, class C = ch07::NoCounters>
