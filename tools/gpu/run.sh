@@ -10,8 +10,9 @@
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
-# memory paths, `bench09` chapter 09's wide trees against the binary one. `sass` counts the load instructions of chapter 08's kernels in the machine code
-# (cuobjdump); `profile` reads their cache hit rates with Nsight Compute (ncu), where it runs.
+# memory paths, `bench09` chapter 09's wide trees against the binary one. `sass` counts the load
+# instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
+# cache hit rates with Nsight Compute (ncu), where it runs.
 #
 # Offline machines: run tools/gpu/fetch-debs.sh where there is internet, copy .gpu-debs/ (and
 # .gpu-x11/ for the window test) along; this script unpacks them into private prefixes
@@ -94,7 +95,10 @@ gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1)
 echo "GPU: $gpu"
 
 step configure cmake --preset native "${cmake_args[@]}"
-step build cmake --build --preset native
+# RT_BUILD_TARGETS narrows the build (e.g. "ch09_wide_bvh test_ch09"); narrow the tests with it.
+build_targets=()
+for target in ${RT_BUILD_TARGETS:-}; do build_targets+=(--target "$target"); done
+step build cmake --build --preset native "${build_targets[@]}"
 [ $status -eq 0 ] || exit $status
 shopt -s nullglob
 export RT_SYNC_CHECK=1
