@@ -10,12 +10,11 @@
 #include <optional>
 
 #include "camera_cli.h"
-#include "convergence.h"
 #include "path_render.h"
+#include "path_report.h"
 #include "program.h"
 #include "rt/image.h"
 #include "rt/program_output.h"
-#include "rt/timer.h"
 #include "shaded_scene.h"
 
 namespace {
@@ -75,73 +74,18 @@ void render_final(PathRenderer& renderer, const ChapterOptions& options) {
   } while (std::chrono::steady_clock::now() < end);
 }
 
-// A row per kernel: time per sample pass over every pixel, and whether its sums equal the
-// specialised megakernel's after the same samples.
-void measure_variants(PathRenderer& renderer, const ChapterOptions& options,
-                      const CameraSpec& camera, Report& report) {
-  const Extent extent = options.common.extent();
-  const RenderSettings base = options.settings;
-  const RenderSettings variants[] = {
-      {PathVariant::megakernel, KernelKind::specialised, base.strategy},
-      {PathVariant::megakernel, KernelKind::all_features, base.strategy},
-      {PathVariant::wavefront, KernelKind::specialised, base.strategy}};
-  std::vector<float4> first;
-  for (const RenderSettings& v : variants) {
-    renderer.restart(camera, extent);
-    const Timing t = time_on(
-        renderer.backend(), [&] { renderer.add_samples(v, 1); }, options.common.frames);
-    const std::vector<float4> sums = renderer.sums();
-    if (first.empty()) first = sums;
-    long long differ = 0;
-    for (std::size_t i = 0; i < sums.size(); ++i)
-      differ += (sums[i].x != first[i].x || sums[i].y != first[i].y || sums[i].z != first[i].z);
-    ReportRow row{
-        describe(v) + (v.kernel == KernelKind::specialised ? " (specialised)" : ""),
-        to_string(renderer.backend()),
-        t.median_ms,
-        double(extent.pixel_count()) / (t.median_ms * 1e3),
-        group_digits(differ) + " px differ from the first row, " +
-            std::to_string(renderer.non_finite()) + " NaN/Inf samples",
-        {{"pixels_differing", double(differ)}, {"non_finite", double(renderer.non_finite())}}};
-    report.add_row(std::move(row));
-  }
-}
-
-int run_convergence(const ChapterOptions& options, Backend backend, const PathScene& scene,
-                    const CameraSpec& camera) {
-  const Extent extent = options.common.extent();
-  Report report = start_report("Chapter 11: error against run time", "Mpaths/s",
-                               "float64 mean of " + std::to_string(options.reference_spp) +
-                                   " spp (megakernel, mis)",
-                               backend);
-  report.add_context("scene", scene.description);
-  report.add_context("resolution", to_string(extent));
-  PathRenderer renderer(scene, backend);
-  const Reference reference = render_reference(renderer, camera, extent, options.reference_spp);
-  report.add_context("reference seconds", format_fixed(reference.seconds, 1));
-  const Strategy strategies[] = {Strategy::bsdf, Strategy::light, Strategy::mis};
-  for (Strategy s : strategies) {
-    const RenderSettings settings{PathVariant::megakernel, KernelKind::specialised, s};
-    add_convergence_rows(
-        report, describe(settings), backend, extent.pixel_count(),
-        measure_convergence(renderer, settings, camera, extent, options.spp, reference));
-  }
-  const RenderSettings wavefront{PathVariant::wavefront, KernelKind::specialised,
-                                 Strategy::mis};
-  add_convergence_rows(
-      report, describe(wavefront), backend, extent.pixel_count(),
-      measure_convergence(renderer, wavefront, camera, extent, options.spp, reference));
-  finish_report(report, options.common);
-  return 0;
-}
-
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
   CameraSpec camera = options.camera;
   const PathScene scene = load_scene(options, camera);
   ch03::validate_camera(camera);
-  if (options.convergence) return run_convergence(options, backend, scene, camera);
+  if (options.convergence) {
+    finish_report(convergence_report(scene, backend, camera, options.common.extent(),
+                                     options.spp, options.reference_spp),
+                  options.common);
+    return 0;
+  }
 
   Report report = start_report("Chapter 11: progressive path tracing", "Mpaths/s",
                                "the first row's sums after the same samples", backend);
@@ -179,7 +123,8 @@ int run(ChapterOptions& options) {
                              group_digits(std::ssize(scene.mesh.triangles)) + " triangles, " +
                              group_digits(std::ssize(scene.lights.triangles)) + " emitting");
             rows.add_context("features", describe_path_features(features_used(scene)));
-            measure_variants(renderer_for(backend), options, camera, rows);
+            add_kernel_rows(renderer_for(backend), options.settings.strategy, camera,
+                            options.common.extent(), options.common.frames, rows);
           },
       .image =
           [&] {

@@ -128,8 +128,8 @@ RT_HD inline Vec3f front_normal(const ch04::TriangleF& t, Vec3f fallback) {
 // triangle*. Chapter 03 warned that its offset assumes the point is as accurate as its own
 // coordinates; a hit near the origin on a floor that reaches out to +-4 is only as accurate
 // as the floor's corners, and a path tracer finds such points all the time: every bounce from
-// the middle of a large floor. Scaled by the point alone, shadow rays from there found the
-// floor itself, and the disc test (tests/11_path_tracing) came out 3% dark.
+// the middle of a large floor. Scaled by the point alone, shadow rays from there find the
+// floor itself, and the disc test (tests/11_path_tracing) comes out 3% dark.
 RT_HD inline Vec3f spawn_origin(Vec3f p, Vec3f n, const ch04::TriangleF& t) {
   const float largest = max_of(max_component(elementwise_abs(p)),
                                max_of(max_component(elementwise_abs(t.v0)),

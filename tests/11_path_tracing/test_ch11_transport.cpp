@@ -93,8 +93,7 @@ TEST_CASE("sample numbers: from 0 up to 1, different for each coordinate", "[ch1
   CHECK(sum / n == Approx(0.5).margin(0.005));
 }
 
-TEST_CASE("cosine directions are unit and above the surface; frames are orthonormal",
-          "[ch11]") {
+TEST_CASE("cosine directions are unit and above the surface, frames orthonormal", "[ch11]") {
   double mean_cosine = 0.0;
   const int n = 16384;
   for (int i = 0; i < n; ++i) {
