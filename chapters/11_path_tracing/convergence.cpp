@@ -16,6 +16,7 @@ Reference render_reference(PathRenderer& renderer, const CameraSpec& camera, Ext
   Reference reference;
   reference.radiance.assign(static_cast<std::size_t>(extent.pixel_count()) * 3, 0.0);
   std::vector<double> weight(static_cast<std::size_t>(extent.pixel_count()), 0.0);
+  CpuProgress progress(samples, "samples"); // a reference takes minutes on the CPU
   for (int done = 0; done < samples;) {
     const int pass = std::min(k_reference_pass, samples - done);
     renderer.restart(camera, extent, k_reference_first_sample + unsigned(done));
@@ -28,6 +29,7 @@ Reference render_reference(PathRenderer& renderer, const CameraSpec& camera, Ext
       weight[i] += sums[i].w;
     }
     done += pass;
+    progress.update(done);
   }
   for (std::size_t i = 0; i < weight.size(); ++i)
     for (int c = 0; c < 3; ++c)

@@ -128,6 +128,17 @@ void accumulate_megakernel(Backend backend, KernelKind kernel, unsigned features
   });
 }
 
+int megakernel_registers(KernelKind kernel, unsigned features) {
+  int registers = 0;
+  with_kernel(kernel, features, [&](auto f) {
+    cudaFuncAttributes attributes{};
+    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes,
+                                        for_each_pixel_kernel<MegakernelPixel<decltype(f)>>));
+    registers = attributes.numRegs;
+  });
+  return registers;
+}
+
 void tone_map(Backend backend, const float4* sums, Extent extent, float exposure,
               Rgba8* pixels) {
   for_each_pixel(backend, extent, ToneMapPixel{sums, extent, exposure, pixels});

@@ -44,6 +44,9 @@ void accumulate_megakernel(Backend backend, KernelKind kernel, unsigned features
                            const ch03::Camera<float>& camera, unsigned first_sample,
                            int samples, float4* sums, unsigned* non_finite);
 
+// Registers per thread of the megakernel's GPU kernel; needs a usable GPU.
+int megakernel_registers(KernelKind kernel, unsigned features);
+
 // The pixel's mean radiance times `exposure`, through a filmic curve (Narkowicz's fit of
 // ACES) and the sRGB transfer function, as 8-bit pixels in the backend's memory.
 void tone_map(Backend backend, const float4* sums, Extent extent, float exposure,

@@ -3,6 +3,7 @@
 
 #include "rt/program_output.h"
 #include "rt/timer.h"
+#include "wavefront.h"
 
 namespace rt::ch11 {
 
@@ -23,13 +24,21 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
     for (std::size_t i = 0; i < sums.size(); ++i)
       differ += (sums[i].x != first[i].x || sums[i].y != first[i].y || sums[i].z != first[i].z);
     const double non_finite = double(renderer.non_finite());
-    report.add_row({describe(v) + (v.kernel == KernelKind::specialised ? " (specialised)" : ""),
-                    to_string(renderer.backend()),
-                    t.median_ms,
-                    double(extent.pixel_count()) / (t.median_ms * 1e3),
-                    group_digits(differ) + " px differ from the first row, " +
-                        group_digits(static_cast<long long>(non_finite)) + " NaN/Inf samples",
-                    {{"pixels_differing", double(differ)}, {"non_finite", non_finite}}});
+    ReportRow row{describe(v) + (v.kernel == KernelKind::specialised ? " (specialised)" : ""),
+                  to_string(renderer.backend()),
+                  t.median_ms,
+                  double(extent.pixel_count()) / (t.median_ms * 1e3),
+                  group_digits(differ) + " px differ from the first row, " +
+                      group_digits(static_cast<long long>(non_finite)) + " NaN/Inf samples",
+                  {{"pixels_differing", double(differ)}, {"non_finite", non_finite}}};
+    if (renderer.backend() == Backend::gpu) { // what the features cost the GPU: registers
+      const int registers = v.variant == PathVariant::megakernel
+                                ? megakernel_registers(v.kernel, renderer.features())
+                                : wavefront_registers(v.kernel, renderer.features());
+      row.error += ", " + std::to_string(registers) + " registers";
+      row.metrics.push_back({"registers", registers});
+    }
+    report.add_row(std::move(row));
   }
 }
 

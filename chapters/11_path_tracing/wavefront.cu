@@ -1,6 +1,8 @@
 // Chapter 11: the wavefront path tracer's stages. See wavefront.h.
 #include "wavefront.h"
 
+#include <algorithm>
+
 #include "path_dispatch.h"
 #include "rt/cuda_check.h"
 
@@ -91,6 +93,21 @@ void read_counters(Backend backend, const unsigned* counters, unsigned (&out)[2]
 }
 
 } // namespace
+
+int wavefront_registers(KernelKind kernel, unsigned features) {
+  int registers = 0;
+  const auto take = [&](auto kernel_function) {
+    cudaFuncAttributes attributes{};
+    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, kernel_function));
+    registers = std::max(registers, attributes.numRegs);
+  };
+  with_kernel(kernel, features, [&](auto f) {
+    take(for_each_pixel_kernel<ItemsAsPixels<Extend>>);
+    take(for_each_pixel_kernel<ItemsAsPixels<Shade<decltype(f)>>>);
+    take(for_each_pixel_kernel<ItemsAsPixels<Connect>>);
+  });
+  return registers;
+}
 
 // [listing:wavefront_loop]
 WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned features,

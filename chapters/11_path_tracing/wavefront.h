@@ -37,6 +37,10 @@ struct WavefrontPass {
   long long shadow_rays_paths = 0; // paths queued for connect, over every bounce
 };
 
+// Registers per thread of the wavefront's largest stage kernel (extend, shade or connect);
+// needs a usable GPU.
+int wavefront_registers(KernelKind kernel, unsigned features);
+
 // Adds `samples` samples per pixel to `sums`, one pass of the stages per sample; the same
 // numbers and the same additions as accumulate_megakernel, so the same sums.
 WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned features,

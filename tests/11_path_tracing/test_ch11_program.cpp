@@ -72,6 +72,17 @@ TEST_CASE("program: --convergence rows fall with the samples, for every strategy
   CHECK(rel_mse.at("megakernel, mis").at(16) < rel_mse.at("megakernel, bsdf").at(16));
 }
 
+TEST_CASE("program: --seconds renders until the time is up", "[ch11]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch11");
+  const std::string pfm = (folder / "timed.pfm").string();
+  const ProgramRun run = run_program("--width 16 --height 12 --seconds 0.2 --image-only "
+                                     "--output " +
+                                     (folder / "timed.png").string() + " --pfm " + pfm);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK(std::filesystem::file_size(pfm) > 16 * 12 * 12);
+}
+
 TEST_CASE("program: a missing MTL file gives the default material", "[ch11]") {
   const std::filesystem::path folder = rt::testing::temp_folder("rt_ch11");
   write_text(folder / "no_mtl.obj", "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
