@@ -106,6 +106,9 @@ done
 # run time on the CPU, measured here (the JSON goes to book/data, the plot below).
 "$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 512 \
   --image-only --output "$img/11_room.png" >/dev/null
+# Bounces alone at 28 samples: about the time of MIS's 16 (the convergence table's costs).
+"$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 28 \
+  --strategy bsdf --image-only --output "$img/11_equal_time_bsdf.png" >/dev/null
 for strategy in bsdf light mis; do
   "$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 16 \
     --strategy "$strategy" --image-only --output "$img/11_strategy_$strategy.png" >/dev/null

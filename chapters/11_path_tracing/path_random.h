@@ -22,7 +22,7 @@ enum Dimension : unsigned {
 
 // A 32-bit permutation with good avalanche: a linear congruential step, then the output
 // permutation of the PCG family (a random rotation by the high bits and a multiply).
-// Jarzynski and Olano 2020 measured this one as the best quality per cost for GPU hashing.
+// Jarzynski and Olano 2020 found it among the best trades of quality for speed on GPUs.
 RT_HD inline unsigned pcg_hash(unsigned value) {
   const unsigned state = value * 747796405u + 2891336453u;
   const unsigned word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;

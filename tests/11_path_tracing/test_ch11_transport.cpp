@@ -1,7 +1,7 @@
 // Chapter 11 tests of light transport against what is known exactly: the white furnace
-// (radiance Le / (1 - a) inside a closed emitting sphere, whatever the strategy), a disc
-// lighting a floor (E = pi Le sin^2 theta), a sun and a sky on a floor; and the pieces the
-// estimators are made of: the random numbers, the sampling, the light table.
+// (radiance Le / (1 - a) inside a closed emitting sphere, whatever the strategy), a disc and a
+// sphere lighting a floor (E = pi Le sin^2 theta, pi Le (R / d)^2), a sun and a sky on a floor;
+// and the pieces the estimators are made of: the random numbers, the sampling, the light table.
 #include <cmath>
 #include <set>
 
@@ -50,6 +50,33 @@ TEST_CASE("a disc over a floor: albedo / pi * pi Le sin^2 theta right below it",
     CAPTURE(stats.mean, stats.standard_error, expected);
     CHECK(std::abs(stats.mean - expected) < 3.0 * stats.standard_error);
     CHECK(stats.standard_error < 0.05 * expected); // and the test has the power to notice
+  }
+}
+
+TEST_CASE("a sphere over a floor: albedo / pi * pi Le (R / d)^2 right below it", "[ch11]") {
+  const float radius = 0.5f, distance = 2.0f, emission = 3.0f, albedo = 0.7f;
+  PathScene scene = make_disc_over_floor(radius, 1.0f, 0.0f, albedo, 40.0f, 8);
+  scene.mesh.triangles.resize(2); // the floor alone, then an emitting icosphere over it
+  scene.material.resize(2);
+  ch04::append_mesh(scene.mesh, ch04::make_icosphere(4, {0.0, distance, 0.0}, radius));
+  scene.materials[1].emission = {emission, emission, emission};
+  scene.material.resize(scene.mesh.triangles.size(), 1);
+  scene.lights = build_light_table(scene);
+  CameraSpec camera;
+  camera.eye = {0.0, 0.5, 0.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.up = {0.0, 0.0, -1.0};
+  camera.fov_degrees = 2.0;
+  const double ratio = double(radius) / distance;
+  const double expected = albedo / k_pi * (k_pi * emission * ratio * ratio);
+  for (const Strategy strategy : {Strategy::mis, Strategy::light, Strategy::bsdf}) {
+    CAPTURE(to_string(strategy));
+    const MeanAndError stats = pixel_statistics(
+        render_mean(scene, Backend::cpu, camera, {16, 16}, 32,
+                    {PathVariant::megakernel, KernelKind::specialised, strategy}));
+    CAPTURE(stats.mean, stats.standard_error, expected);
+    CHECK(std::abs(stats.mean - expected) < 3.0 * stats.standard_error);
+    CHECK(stats.standard_error < 0.1 * expected);
   }
 }
 
