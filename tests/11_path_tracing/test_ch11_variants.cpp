@@ -5,6 +5,7 @@
 
 #include "rt_catch.h"
 
+#include "collapse.h"
 #include "path_cases.h"
 
 using namespace rt;
@@ -88,5 +89,35 @@ TEST_CASE("the Cornell room from scale 1 to 1e6: the same image, no NaN", "[ch11
     }
     CHECK(mean == Approx(unit_mean).epsilon(0.01));
     CHECK(difference < 0.02 * unit_mean);
+  }
+}
+
+TEST_CASE("rays spawned from every triangle of the room never hit it again, at any scale",
+          "[ch11]") {
+  for (const double scale : {1.0, 1e-3, 1e3, 1e6}) {
+    CAPTURE(scale);
+    PathScene room = load_path_scene(k_room);
+    scale_scene(room, scale);
+    const ch09::CompressedBvh tree =
+        ch09::compress(ch09::build_wide_layout(room.mesh, 8, ch09::Collapse::sah));
+    long long self_hits = 0, rays = 0;
+    for (int i = 0; i < static_cast<int>(room.mesh.triangles.size()); ++i) {
+      const ch04::TriangleF t = room.mesh.triangle(i);
+      for (unsigned k = 0; k < 64; ++k) {
+        const Vec3f p = point_on_triangle(t.v0, t.v1, t.v2, sample_number(i, k, 1, 0),
+                                          sample_number(i, k, 1, 1));
+        for (const float side : {1.0f, -1.0f}) { // both faces reflect
+          const Vec3f n = front_normal(t, {0, 1, 0}) * side;
+          const Vec3f d = frame_around(n).to_world(
+              cosine_direction(sample_number(i, k, 1, 2), sample_number(i, k, 1, 3)));
+          const ch07::TraceHit hit =
+              ch09::trace_wide<Query::closest>(tree.view(), {spawn_origin(p, n, t), d});
+          self_hits += hit.triangle == i ? 1 : 0;
+          ++rays;
+        }
+      }
+    }
+    CHECK(rays == 218 * 64 * 2);
+    CHECK(self_hits == 0);
   }
 }
