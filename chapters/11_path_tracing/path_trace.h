@@ -54,7 +54,7 @@ struct PathSceneView {
   Environment environment;
 };
 
-// One path in flight: 64 bytes the wavefront keeps per path between its stages.
+// One path in flight: 72 bytes the wavefront keeps per path between its stages.
 struct PathState {
   RayF ray;         // the next ray to trace (unit direction)
   Vec3f throughput; // the product of f cos / pdf (and 1 / roulette survival) so far
@@ -64,14 +64,16 @@ struct PathState {
   unsigned sample;  // the sample index within the pixel
   int vertex;       // surfaces met so far
 };
+static_assert(sizeof(PathState) == 72);
 
 // The shadow rays one vertex asks for: the sun's and an emitter's. Each adds its
 // contribution to the path's radiance if nothing blocks it.
-struct ShadowRays {
+struct ShadowRays { // 92 bytes
   RayF ray[2];
   Vec3f contribution[2];
   int count = 0;
 };
+static_assert(sizeof(ShadowRays) == 92);
 
 RT_HD inline float number(const PathState& path, unsigned dimension) {
   return sample_number(path.pixel, path.sample, unsigned(path.vertex), dimension);

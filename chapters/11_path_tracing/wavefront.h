@@ -16,7 +16,8 @@ namespace rt::ch11 {
 using ch06::KernelKind;
 
 // The memory of one pass of the wavefront over an image of `pixels` pixels: a path per pixel
-// and its shadow rays, the hits of the paths in the queue, and the queues themselves.
+// and its shadow rays, the hits of the paths in the queue, and the queues themselves: 192
+// bytes per pixel, 398 MB for 1920x1080, where the megakernel keeps the same in registers.
 class WavefrontQueues {
 public:
   WavefrontQueues(Backend backend, long long pixels);
