@@ -13,13 +13,21 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
       {PathVariant::megakernel, KernelKind::specialised, strategy},
       {PathVariant::megakernel, KernelKind::all_features, strategy},
       {PathVariant::wavefront, KernelKind::specialised, strategy}};
+  report.add_context("kernels", "specialised on " +
+                                    describe_path_features(renderer.features()) +
+                                    "; all features: every feature compiled in, switched by "
+                                    "the scene's flags");
   std::vector<float4> first;
+  double first_ms = 0.0;
   for (const RenderSettings& v : variants) {
     renderer.restart(camera, extent);
     const Timing t = time_on(
         renderer.backend(), [&] { renderer.add_samples(v, 1); }, frames);
     const std::vector<float4> sums = renderer.sums();
-    if (first.empty()) first = sums;
+    if (first.empty()) {
+      first = sums;
+      first_ms = t.median_ms;
+    }
     long long differ = 0;
     for (std::size_t i = 0; i < sums.size(); ++i)
       differ += (sums[i].x != first[i].x || sums[i].y != first[i].y || sums[i].z != first[i].z);
@@ -28,9 +36,12 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
                   to_string(renderer.backend()),
                   t.median_ms,
                   double(extent.pixel_count()) / (t.median_ms * 1e3),
-                  group_digits(differ) + " px differ from the first row, " +
+                  format_fixed(t.median_ms / first_ms, 2) + "x the first row's time, " +
+                      group_digits(differ) + " px differ from it, " +
                       group_digits(static_cast<long long>(non_finite)) + " NaN/Inf samples",
-                  {{"pixels_differing", double(differ)}, {"non_finite", non_finite}}};
+                  {{"time_vs_first", t.median_ms / first_ms},
+                   {"pixels_differing", double(differ)},
+                   {"non_finite", non_finite}}};
     if (renderer.backend() == Backend::gpu) { // what the features cost the GPU: registers
       const int registers = v.variant == PathVariant::megakernel
                                 ? megakernel_registers(v.kernel, renderer.features())
