@@ -1,4 +1,4 @@
-// Chapter 11 test helpers: small renders on either backend and the statistics the analytic
+// Chapter 11 shared test code: small renders on either backend and the statistics the analytic
 // tests compare with, shared by the test files.
 #pragma once
 
