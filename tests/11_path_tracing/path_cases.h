@@ -1,5 +1,5 @@
-// Chapter 11 shared test code: small renders on either backend and the statistics the analytic
-// tests compare with, shared by the test files.
+// Chapter 11 test cases: small renders on either backend and the statistics the analytic tests
+// compare them with, shared by the test files.
 #pragma once
 
 #include <cmath>
