@@ -37,6 +37,19 @@ TEST_CASE("specialised and all-features kernels give the same sums", "[ch11]") {
                                  {PathVariant::megakernel, KernelKind::all_features, strategy});
     CHECK(same_sums(specialised, all));
   }
+  // An open scene lit by the sky and the sun alone, a dark disc's shadow on a floor: another
+  // specialised kernel.
+  PathScene open = make_disc_over_floor(0.5f, 1.0f, 0.0f, 0.6f, 8.0f, 16);
+  open.environment = room_with_sky_and_sun().environment;
+  REQUIRE(features_used(open) == (k_sky | k_sun));
+  CameraSpec camera;
+  camera.eye = {0.0, 3.0, 4.0};
+  camera.target = {0.0, 0.0, 0.0};
+  const auto specialised = render_sums(open, Backend::cpu, camera, k_small, 4);
+  const auto all = render_sums(open, Backend::cpu, camera, k_small, 4,
+                               {PathVariant::megakernel, KernelKind::all_features});
+  CHECK(same_sums(specialised, all));
+  CHECK(specialised[k_small.width * k_small.height / 2].x > 0.0f); // lit, not black
 }
 
 TEST_CASE("megakernel and wavefront give the same sums, every feature on", "[ch11]") {
