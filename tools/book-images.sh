@@ -101,6 +101,23 @@ for split in median sah; do
     --split "$split" --output "$img/07_heat_$split.png" >/dev/null
 done
 
+# Chapter 11: the Cornell room at 512 samples per pixel, and at 16 with each strategy for
+# direct light (bounces only, shadow rays only, both weighted by MIS); then its error against
+# run time on the CPU, measured here (the JSON goes to book/data, the plot below).
+"$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 512 \
+  --image-only --output "$img/11_room.png" >/dev/null
+# Bounces alone at 28 samples: about the time of MIS's 16 (the convergence table's costs).
+"$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 28 \
+  --strategy bsdf --image-only --output "$img/11_equal_time_bsdf.png" >/dev/null
+for strategy in bsdf light mis; do
+  "$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 16 \
+    --strategy "$strategy" --image-only --output "$img/11_strategy_$strategy.png" >/dev/null
+done
+"$bin/ch11_path_tracing" --headless --backend cpu --convergence --width 64 --height 48 \
+  --spp 256 --reference-spp 4096 --json book/data/11_path_tracing_convergence.json >/dev/null
+python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time (CPU, 64x48)" \
+  --out "$img/11_convergence.svg" book/data/11_path_tracing_convergence.json
+
 # Diagrams of chapters 05 on, one script per chapter (matplotlib; chapter 08's also plots
 # book/data); chapters 01-04 drew theirs above.
 for n in 05 06 07 08; do python3 "tools/diagrams/ch$n.py" "$img"; done

@@ -1,0 +1,117 @@
+// Chapter 11: error against run time. See convergence.h.
+#include "convergence.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "rt/cpu_progress.h"
+#include "rt/device_buffer.h"
+
+namespace rt::ch11 {
+
+Reference render_reference(PathRenderer& renderer, const CameraSpec& camera, Extent extent,
+                           int samples) {
+  const CpuWorkName name("float64 reference");
+  const auto start = std::chrono::steady_clock::now();
+  Reference reference;
+  reference.radiance.assign(static_cast<std::size_t>(extent.pixel_count()) * 3, 0.0);
+  std::vector<double> weight(static_cast<std::size_t>(extent.pixel_count()), 0.0);
+  CpuProgress progress(samples, "samples"); // a reference takes minutes on the CPU
+  for (int done = 0; done < samples;) {
+    const int pass = std::min(k_reference_pass, samples - done);
+    renderer.restart(camera, extent, k_reference_first_sample + unsigned(done));
+    renderer.add_samples({}, pass);
+    const std::vector<float4> sums = renderer.sums();
+    for (std::size_t i = 0; i < sums.size(); ++i) {
+      reference.radiance[3 * i] += sums[i].x;
+      reference.radiance[3 * i + 1] += sums[i].y;
+      reference.radiance[3 * i + 2] += sums[i].z;
+      weight[i] += sums[i].w;
+    }
+    done += pass;
+    progress.update(done);
+  }
+  for (std::size_t i = 0; i < weight.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      reference.radiance[3 * i + c] /= weight[i] > 0.0 ? weight[i] : 1.0;
+  reference.samples = samples;
+  reference.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return reference;
+}
+
+// [listing:rel_mse]
+ImageError image_error(const std::vector<Vec3f>& image, const std::vector<double>& reference) {
+  double squared = 0.0, relative = 0.0;
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const double ref = reference[3 * i + c];
+      const double difference = double(image[i][c]) - ref;
+      squared += difference * difference;
+      relative += difference * difference / (ref * ref + 0.01);
+    }
+  }
+  const double n = 3.0 * static_cast<double>(image.size());
+  return {std::sqrt(squared / n), relative / n};
+}
+// [/listing:rel_mse]
+
+std::vector<ConvergencePoint> measure_convergence(PathRenderer& renderer,
+                                                  const RenderSettings& settings,
+                                                  const CameraSpec& camera, Extent extent,
+                                                  int max_samples, const Reference& reference) {
+  std::vector<ConvergencePoint> points;
+  renderer.restart(camera, extent);
+  double wall_ms = 0.0, kernel_ms = 0.0;
+  for (int target = 1; target <= max_samples; target *= 2) {
+    const int more = target - renderer.samples();
+    const auto start = std::chrono::steady_clock::now();
+    if (renderer.backend() == Backend::gpu) {
+      CudaEvent begin, end;
+      begin.record();
+      renderer.add_samples(settings, more);
+      end.record();
+      end.synchronize();
+      kernel_ms += end.milliseconds_since(begin);
+    } else {
+      renderer.add_samples(settings, more);
+    }
+    renderer.synchronize();
+    const double step =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count();
+    wall_ms += step;
+    if (renderer.backend() == Backend::cpu) kernel_ms += step;
+    points.push_back({target, wall_ms, kernel_ms,
+                      image_error(renderer.mean_radiance(), reference.radiance),
+                      renderer.non_finite()});
+  }
+  return points;
+}
+
+std::string describe(const RenderSettings& settings) {
+  std::string text =
+      std::string(to_string(settings.variant)) + ", " + to_string(settings.strategy);
+  if (settings.kernel == KernelKind::all_features) text += ", all features";
+  return text;
+}
+
+void add_convergence_rows(Report& report, const std::string& variant, Backend backend,
+                          long long pixels, const std::vector<ConvergencePoint>& points) {
+  for (const ConvergencePoint& p : points) {
+    ReportRow row;
+    row.variant = variant + ", " + std::to_string(p.samples) + " spp";
+    row.backend = to_string(backend);
+    row.ms_per_frame = p.wall_ms;
+    row.throughput = p.wall_ms > 0.0 ? double(pixels) * p.samples / (p.wall_ms * 1e3) : 0.0;
+    row.error = "relMSE " + format_scientific(p.error.rel_mse, 2) + ", RMSE " +
+                format_scientific(p.error.rmse, 2) + ", " + std::to_string(p.non_finite) +
+                " NaN/Inf";
+    row.metrics = {{"samples", p.samples},       {"wall_ms", p.wall_ms},
+                   {"kernel_ms", p.kernel_ms},   {"rmse", p.error.rmse},
+                   {"rel_mse", p.error.rel_mse}, {"non_finite", double(p.non_finite)}};
+    report.add_row(std::move(row));
+  }
+}
+
+} // namespace rt::ch11

@@ -1,0 +1,96 @@
+// Chapter 11: progressive rendering. A PathRenderer owns the scene on its backend (chapter
+// 09's compressed tree, the materials, the light table) and a running sum per pixel; each call
+// adds samples to the sums, by the megakernel or the wavefront variant, and the image is the
+// mean, tone-mapped. Moving the camera restarts the sums.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend_array.h"
+#include "path_trace.h"
+#include "rt/image.h"
+#include "shaded_render.h"
+#include "wide_trace.h"
+
+namespace rt::ch11 {
+
+using ch06::KernelKind;
+
+enum class PathVariant { megakernel, wavefront };
+const char* to_string(PathVariant variant);
+const char* to_string(Strategy strategy);
+// "megakernel" / "wavefront" and "bsdf" / "light" / "mis"; anything else is a UsageError.
+PathVariant parse_variant(const std::string& text);
+Strategy parse_strategy(const std::string& text);
+
+struct RenderSettings {
+  PathVariant variant = PathVariant::megakernel;
+  KernelKind kernel = KernelKind::specialised;
+  Strategy strategy = Strategy::mis;
+};
+
+// The features a scene uses: emitters when its light table has any, sky and sun when they are
+// not black.
+unsigned features_used(const PathScene& scene);
+// "emitters, sky, sun", or "none".
+std::string describe_path_features(unsigned features);
+
+// Adds `samples` samples per pixel (indices first_sample, first_sample + 1, ...) to `sums` by
+// the megakernel, specialised on `features` or with every feature compiled in.
+void accumulate_megakernel(Backend backend, KernelKind kernel, unsigned features,
+                           Strategy strategy, const PathSceneView& scene,
+                           const ch03::Camera<float>& camera, unsigned first_sample,
+                           int samples, float4* sums, unsigned* non_finite);
+
+// Registers per thread of the megakernel's GPU kernel; needs a usable GPU.
+int megakernel_registers(KernelKind kernel, unsigned features);
+
+// The pixel's mean radiance times `exposure`, through a filmic curve (Narkowicz's fit of
+// ACES) and the sRGB transfer function, as 8-bit pixels in the backend's memory.
+void tone_map(Backend backend, const float4* sums, Extent extent, float exposure,
+              Rgba8* pixels);
+
+class WavefrontQueues; // wavefront.h
+
+class PathRenderer {
+public:
+  PathRenderer(const PathScene& scene, Backend backend);
+  ~PathRenderer();
+  PathRenderer(const PathRenderer&) = delete;
+  PathRenderer& operator=(const PathRenderer&) = delete;
+
+  Backend backend() const { return backend_; }
+  unsigned features() const { return features_; }
+  // Empties the sums for a new view; the next samples are numbered from first_sample.
+  void restart(const CameraSpec& camera, Extent extent, unsigned first_sample = 0);
+  void add_samples(const RenderSettings& settings, int samples);
+  int samples() const { return samples_; }
+  Extent extent() const { return extent_; }
+  // Waits for the GPU's work (nothing on the CPU): for timing.
+  void synchronize() const;
+
+  std::vector<float4> sums() const;         // per pixel: radiance sums and sample count
+  std::vector<Vec3f> mean_radiance() const; // per pixel, row 0 at the top
+  Image image(float exposure) const;
+  void tone_map_into(Rgba8* pixels, float exposure) const; // backend memory
+  unsigned long long non_finite() const;                   // samples dropped since restart
+
+private:
+  PathScene scene_; // a copy: the host view points into it
+  Backend backend_;
+  unsigned features_;
+  ch09::CompressedBvh tree_;
+  std::unique_ptr<struct DevicePathScene> device_; // on the GPU backend
+  PathSceneView view_{};
+  ch03::Camera<float> camera_{};
+  Extent extent_{};
+  BackendArray<float4> sums_;
+  BackendArray<unsigned> non_finite_;
+  std::unique_ptr<WavefrontQueues> queues_; // made for the first wavefront samples
+  unsigned first_sample_ = 0;
+  int samples_ = 0;
+};
+
+} // namespace rt::ch11

@@ -1,0 +1,79 @@
+// Chapter 11: the program's reports. See path_report.h.
+#include "path_report.h"
+
+#include "rt/program_output.h"
+#include "rt/timer.h"
+#include "wavefront.h"
+
+namespace rt::ch11 {
+
+void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec& camera,
+                     Extent extent, int frames, Report& report) {
+  const RenderSettings variants[] = {
+      {PathVariant::megakernel, KernelKind::specialised, strategy},
+      {PathVariant::megakernel, KernelKind::all_features, strategy},
+      {PathVariant::wavefront, KernelKind::specialised, strategy}};
+  report.add_context("kernels", "specialised on " +
+                                    describe_path_features(renderer.features()) +
+                                    "; all features: every feature compiled in, switched by "
+                                    "the scene's flags");
+  std::vector<float4> first;
+  double first_ms = 0.0;
+  for (const RenderSettings& v : variants) {
+    renderer.restart(camera, extent);
+    const Timing t = time_on(
+        renderer.backend(), [&] { renderer.add_samples(v, 1); }, frames);
+    const std::vector<float4> sums = renderer.sums();
+    if (first.empty()) {
+      first = sums;
+      first_ms = t.median_ms;
+    }
+    long long differ = 0;
+    for (std::size_t i = 0; i < sums.size(); ++i)
+      differ += (sums[i].x != first[i].x || sums[i].y != first[i].y || sums[i].z != first[i].z);
+    const double non_finite = double(renderer.non_finite());
+    ReportRow row{describe(v) + (v.kernel == KernelKind::specialised ? " (specialised)" : ""),
+                  to_string(renderer.backend()),
+                  t.median_ms,
+                  double(extent.pixel_count()) / (t.median_ms * 1e3),
+                  format_fixed(t.median_ms / first_ms, 2) + "x the first row's time, " +
+                      group_digits(differ) + " px differ from it, " +
+                      group_digits(static_cast<long long>(non_finite)) + " NaN/Inf samples",
+                  {{"time_vs_first", t.median_ms / first_ms},
+                   {"pixels_differing", double(differ)},
+                   {"non_finite", non_finite}}};
+    if (renderer.backend() == Backend::gpu) { // what the features cost the GPU: registers
+      const int registers = v.variant == PathVariant::megakernel
+                                ? megakernel_registers(v.kernel, renderer.features())
+                                : wavefront_registers(v.kernel, renderer.features());
+      row.error += ", " + std::to_string(registers) + " registers";
+      row.metrics.push_back({"registers", registers});
+    }
+    report.add_row(std::move(row));
+  }
+}
+
+Report convergence_report(const PathScene& scene, Backend backend, const CameraSpec& camera,
+                          Extent extent, int max_samples, int reference_samples) {
+  Report report = start_report("Chapter 11: error against run time", "Mpaths/s",
+                               "float64 mean of " + std::to_string(reference_samples) +
+                                   " spp (megakernel, mis)",
+                               backend);
+  report.add_context("scene", scene.description);
+  report.add_context("resolution", to_string(extent));
+  PathRenderer renderer(scene, backend);
+  const Reference reference = render_reference(renderer, camera, extent, reference_samples);
+  report.add_context("reference seconds", format_fixed(reference.seconds, 1));
+  const RenderSettings variants[] = {
+      {PathVariant::megakernel, KernelKind::specialised, Strategy::bsdf},
+      {PathVariant::megakernel, KernelKind::specialised, Strategy::light},
+      {PathVariant::megakernel, KernelKind::specialised, Strategy::mis},
+      {PathVariant::wavefront, KernelKind::specialised, Strategy::mis}};
+  for (const RenderSettings& v : variants)
+    add_convergence_rows(
+        report, describe(v), backend, extent.pixel_count(),
+        measure_convergence(renderer, v, camera, extent, max_samples, reference));
+  return report;
+}
+
+} // namespace rt::ch11

@@ -1,0 +1,273 @@
+// Chapter 11: a unidirectional path tracer for Lambertian scenes, one path vertex at a time.
+// shade_vertex is the whole physics: it adds what the path sees at a hit (emission, weighted
+// by multiple importance sampling), prepares the shadow rays of next-event estimation, and
+// either ends the path or bounces it. The megakernel loops over it per pixel; the wavefront
+// variant (wavefront.h) runs the same function as one stage of several.
+#pragma once
+
+#include <limits>
+
+#include <vector_types.h>
+
+#include "path_random.h"
+#include "path_sampling.h"
+#include "path_scene.h"
+#include "ray.h"
+#include "rt/atomic.h"
+#include "wide_traverse.h"
+
+namespace rt::ch11 {
+
+using ch03::RayF;
+using ch07::Query;
+using ch07::TraceHit;
+
+// The features a kernel is compiled for (chapter 06's Specialised and AllFeatures carry them).
+enum PathFeature : unsigned {
+  k_emitters = 1u << 0, // emitting triangles: their emission, next-event estimation, MIS
+  k_sky = 1u << 1,      // a constant sky for rays that leave the scene
+  k_sun = 1u << 2,      // a directional light, sampled by shadow rays
+};
+inline constexpr unsigned k_all_path_features = k_emitters | k_sky | k_sun;
+
+// How direct light from the emitting triangles is found.
+enum class Strategy : int {
+  bsdf,  // only by bounced rays that happen to hit an emitter
+  light, // only by next-event estimation (shadow rays to sampled points of the emitters)
+  mis,   // both, weighted by the power heuristic
+};
+
+// Russian roulette starts at this vertex: the first bounces are always traced, where paths
+// carry the most light and ending them would add the most variance.
+inline constexpr int k_roulette_from_vertex = 3;
+
+// The scene as the kernels read it (device pointers on the GPU, host pointers on the CPU).
+struct PathSceneView {
+  ch09::WideTreeView<ch09::CompressedNode> tree; // chapter 09's compressed wide tree
+  ch04::MeshView mesh;                           // positions, by the mesh's triangle numbers
+  const int* material;                           // per triangle
+  const PathMaterial* materials;
+  const int* light_triangles; // LightTable::triangles
+  const float* light_cdf;     // LightTable::cdf
+  int light_count;
+  float light_power; // LightTable::power
+  Environment environment;
+};
+
+// One path in flight: 72 bytes the wavefront keeps per path between its stages.
+struct PathState {
+  RayF ray;         // the next ray to trace (unit direction)
+  Vec3f throughput; // the product of f cos / pdf (and 1 / roulette survival) so far
+  Vec3f radiance;   // what the path has gathered
+  float bsdf_pdf;   // density of ray.direction at the last vertex (0: the camera ray)
+  unsigned pixel;   // y * width + x
+  unsigned sample;  // the sample index within the pixel
+  int vertex;       // surfaces met so far
+};
+static_assert(sizeof(PathState) == 72);
+
+// The shadow rays one vertex asks for: the sun's and an emitter's. Each adds its
+// contribution to the path's radiance if nothing blocks it.
+struct ShadowRays { // 92 bytes
+  RayF ray[2];
+  Vec3f contribution[2];
+  int count = 0;
+};
+static_assert(sizeof(ShadowRays) == 92);
+
+RT_HD inline float number(const PathState& path, unsigned dimension) {
+  return sample_number(path.pixel, path.sample, unsigned(path.vertex), dimension);
+}
+
+// The camera ray through a random point of pixel (x, y) (vertex 0's two numbers): chapter
+// 03's camera formula with the pixel centre's 0.5 replaced by the random offset.
+RT_HD inline PathState start_path(const ch03::Camera<float>& camera, int x, int y,
+                                  unsigned sample) {
+  PathState path{};
+  path.pixel = unsigned(y * camera.pinhole.width + x);
+  path.sample = sample;
+  const float jx = number(path, 0) - 0.5f, jy = number(path, 1) - 0.5f;
+  const auto& c = camera.pinhole;
+  const float sx =
+      (2.0f * (float(x) + 0.5f + jx) / float(c.width) - 1.0f) * c.tan_half_vfov * c.aspect;
+  const float sy = (1.0f - 2.0f * (float(y) + 0.5f + jy) / float(c.height)) * c.tan_half_vfov;
+  if (camera.kind == ch03::CameraKind::pinhole) {
+    const Vec3f d = c.basis.right * sx + c.basis.up * sy + c.basis.forward;
+    path.ray = {c.eye, normalize(d)};
+  } else {
+    const auto& o = camera.orthographic;
+    const float scale = o.half_height / c.tan_half_vfov;
+    path.ray = {o.eye + (o.basis.right * sx + o.basis.up * sy) * scale, o.basis.forward};
+  }
+  path.throughput = {1.0f, 1.0f, 1.0f};
+  return path;
+}
+
+// The emitting triangle for a number in [0, 1): the first whose cumulative probability
+// exceeds it (binary search).
+RT_HD inline int pick_light(const PathSceneView& s, float u) {
+  int lo = 0, hi = s.light_count - 1;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (s.light_cdf[mid] > u)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return s.light_triangles[lo];
+}
+
+// The unit normal of a triangle's front face, the side from which its corners run
+// counter-clockwise; `fallback` for a sliver whose float cross product has no direction.
+RT_HD inline Vec3f front_normal(const ch04::TriangleF& t, Vec3f fallback) {
+  const Vec3f n = cross(t.v1 - t.v0, t.v2 - t.v0);
+  const float len = length(n);
+  return len > 0.0f ? n / len : fallback;
+}
+
+// [listing:spawn_origin]
+// Chapter 03's offset (spawn.h), scaled by the largest coordinate of the point *and of its
+// triangle*. Chapter 03 warned that its offset assumes the point is as accurate as its own
+// coordinates; a hit near the origin on a floor that reaches out to +-4 is only as accurate
+// as the floor's corners, and a path tracer finds such points all the time: every bounce from
+// the middle of a large floor. Scaled by the point alone, shadow rays from there find the
+// floor itself, and the disc test (tests/11_path_tracing) comes out 3% dark.
+RT_HD inline Vec3f spawn_origin(Vec3f p, Vec3f n, const ch04::TriangleF& t) {
+  const float largest = max_of(max_component(elementwise_abs(p)),
+                               max_of(max_component(elementwise_abs(t.v0)),
+                                      max_of(max_component(elementwise_abs(t.v1)),
+                                             max_component(elementwise_abs(t.v2)))));
+  constexpr float k_relative = 128.0f * std::numeric_limits<float>::epsilon(); // as chapter 03
+  constexpr float k_magnitude_floor = 1.0f / 65536.0f / 65536.0f;
+  return p + n * (k_relative * max_of(largest, k_magnitude_floor));
+}
+// [/listing:spawn_origin]
+
+// The face normal on the side `side` points to: surfaces reflect on both sides.
+RT_HD inline Vec3f facing_normal(const ch04::TriangleF& t, Vec3f side) {
+  const Vec3f unit = front_normal(t, side);
+  return dot(unit, side) < 0.0f ? -unit : unit;
+}
+
+// [listing:next_event]
+// Next-event estimation at p (normal n, albedo a): a point q on an emitter, picked by the
+// light table, and the shadow ray from p to it. Its contribution is the estimator
+// f cos_p Le / pdf, with f = a / pi and pdf the density of q's direction per solid angle,
+// (lum(Le) / power) * d^2 / cos_q; under MIS it is weighted against the density with which
+// the cosine-weighted bounce would have found the same direction.
+template <class F>
+RT_HD void sample_emitter(const PathSceneView& s, const PathState& path, Vec3f origin, Vec3f n,
+                          Vec3f albedo, Strategy strategy, ShadowRays& shadows) {
+  const int light = pick_light(s, number(path, k_light_pick));
+  const ch04::TriangleF t = s.mesh.triangle(light);
+  const Vec3f q =
+      point_on_triangle(t.v0, t.v1, t.v2, number(path, k_light_u), number(path, k_light_v));
+  const Vec3f n_light = front_normal(t, origin - q); // emitters emit from their front
+  const Vec3f target = spawn_origin(q, n_light, t);  // off the emitter, in front
+  const Vec3f to_light = target - origin;
+  const float distance_squared = length_squared(to_light);
+  const float distance = square_root(distance_squared);
+  const float cos_p = dot(n, to_light) / distance;
+  const float cos_q = dot(n_light, -to_light) / distance;
+  if (!(cos_p > 0.0f && cos_q > 0.0f)) return; // behind the surface, or seen edge-on
+  const Vec3f emission = s.materials[s.material[light]].emission;
+  const float pdf_light = luminance(emission) / s.light_power * distance_squared / cos_q;
+  const float weight =
+      strategy == Strategy::mis ? power_heuristic(pdf_light, cos_p / k_pi) : 1.0f;
+  const int k = shadows.count++;
+  shadows.ray[k] = {origin, to_light, 0.0f, 1.0f}; // the emitter sits at t = 1
+  shadows.contribution[k] =
+      path.throughput * albedo * emission * (weight * cos_p / (k_pi * pdf_light));
+}
+// [/listing:next_event]
+
+// [listing:shade_vertex]
+// One vertex of a path: `hit` is what path.ray found. Adds what the path sees there, fills
+// `shadows` with the next-event rays, and bounces: false when the path ends.
+template <class F>
+RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, PathState& path,
+                        const TraceHit& hit, ShadowRays& shadows) {
+  const Vec3f d = path.ray.direction;
+  if (hit.triangle < 0) { // the ray left the scene
+    if constexpr (F::compiled(k_sky))
+      if (features.on(k_sky)) path.radiance += path.throughput * s.environment.sky;
+    return false;
+  }
+  ++path.vertex;
+  const ch04::TriangleF triangle = s.mesh.triangle(hit.triangle);
+  const Vec3f n = facing_normal(triangle, -d); // reflects on both sides
+  const Vec3f p = path.ray.origin + d * hit.t;
+  const PathMaterial m = s.materials[s.material[hit.triangle]];
+  if constexpr (F::compiled(k_emitters)) {
+    const bool front = dot(front_normal(triangle, -d), d) < 0.0f; // emits from the front only
+    if (features.on(k_emitters) && front && max_component(m.emission) > 0.0f) {
+      float weight = 1.0f; // the camera ray's hit, or a bounce when only bounces find lights
+      if (path.bsdf_pdf > 0.0f && strategy == Strategy::light) weight = 0.0f;
+      if (path.bsdf_pdf > 0.0f && strategy == Strategy::mis) {
+        const float cos_q = absolute(dot(n, d));
+        const float pdf_light = luminance(m.emission) / s.light_power * hit.t * hit.t / cos_q;
+        weight = power_heuristic(path.bsdf_pdf, pdf_light);
+      }
+      path.radiance += path.throughput * m.emission * weight;
+    }
+  }
+  const Vec3f origin = spawn_origin(p, n, triangle);
+  if constexpr (F::compiled(k_sun)) {
+    const Environment& e = s.environment;
+    const float cosine = dot(n, e.sun_direction);
+    if (features.on(k_sun) && cosine > 0.0f) {
+      const int k = shadows.count++;
+      shadows.ray[k] = {origin, e.sun_direction};
+      shadows.contribution[k] = path.throughput * m.albedo * e.sun_irradiance * (cosine / k_pi);
+    }
+  }
+  if constexpr (F::compiled(k_emitters))
+    if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0)
+      sample_emitter<F>(s, path, origin, n, m.albedo, strategy, shadows);
+  // The bounce: cosine-weighted, so the throughput is multiplied by the albedo alone.
+  const Vec3f local = cosine_direction(number(path, k_bsdf_u), number(path, k_bsdf_v));
+  path.throughput = path.throughput * m.albedo;
+  if (path.vertex >= k_roulette_from_vertex) {
+    const float survive = min_of(max_component(path.throughput), 0.95f);
+    if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
+    path.throughput = path.throughput / survive;
+  } else if (!(max_component(path.throughput) > 0.0f)) {
+    return false; // a black surface: nothing more can come back
+  }
+  path.ray = {origin, frame_around(n).to_world(local)};
+  path.bsdf_pdf = local.z / k_pi;
+  return true;
+}
+// [/listing:shade_vertex]
+
+// [listing:megakernel]
+// The megakernel's path: trace, shade, trace the shadow rays, until the path ends.
+template <class F>
+RT_HD Vec3f trace_path(const PathSceneView& s, F features, Strategy strategy,
+                       const ch03::Camera<float>& camera, int x, int y, unsigned sample) {
+  PathState path = start_path(camera, x, y, sample);
+  for (;;) {
+    const TraceHit hit = ch09::trace_wide<Query::closest>(s.tree, path.ray);
+    ShadowRays shadows;
+    const bool goes_on = shade_vertex(s, features, strategy, path, hit, shadows);
+    for (int k = 0; k < shadows.count; ++k)
+      if (ch09::trace_wide<Query::any>(s.tree, shadows.ray[k]).triangle < 0)
+        path.radiance += shadows.contribution[k];
+    if (!goes_on) return path.radiance;
+  }
+}
+// [/listing:megakernel]
+
+// Adds one sample to a pixel's running sum (x, y, z: radiance; w: samples), unless it is not
+// finite: then it is dropped and counted. Both variants add samples in this one place, in
+// sample order, so their sums round alike.
+RT_HD inline void add_sample(float4& sum, Vec3f radiance, unsigned* non_finite) {
+  const float total = radiance.x + radiance.y + radiance.z;
+  if (!(total - total == 0.0f)) { // NaN or infinity in any channel
+    atomic_increment(non_finite);
+    return;
+  }
+  sum = {sum.x + radiance.x, sum.y + radiance.y, sum.z + radiance.z, sum.w + 1.0f};
+}
+
+} // namespace rt::ch11

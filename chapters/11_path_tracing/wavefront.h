@@ -1,0 +1,53 @@
+// Chapter 11: the wavefront path tracer (Laine, Karras and Aila 2013, "Megakernels considered
+// harmful"). One sample per pixel at a time, split into stages, each a kernel of its own over a
+// queue of paths in memory: generate the camera rays, extend (trace every live path's ray to
+// its closest hit), shade (shade_vertex: queue the shadow rays and the paths that go on), and
+// connect (trace the shadow rays, any hit). Queues are compacted with atomic counters. A stage
+// runs one small function over many paths that all do the same thing, where the megakernel's
+// threads drift apart into different parts of one large function.
+#pragma once
+
+#include "backend_array.h"
+#include "path_trace.h"
+#include "shaded_render.h"
+
+namespace rt::ch11 {
+
+using ch06::KernelKind;
+
+// The memory of one pass of the wavefront over an image of `pixels` pixels: a path per pixel
+// and its shadow rays, the hits of the paths in the queue, and the queues themselves: 192
+// bytes per pixel, 398 MB for 1920x1080, where the megakernel keeps the same in registers.
+class WavefrontQueues {
+public:
+  WavefrontQueues(Backend backend, long long pixels);
+  long long capacity() const { return static_cast<long long>(paths.size()); }
+
+  BackendArray<PathState> paths;    // path i is pixel i's
+  BackendArray<ShadowRays> shadows; // the shadow rays of path i's last vertex
+  BackendArray<TraceHit> hits;      // hits[j]: what queue entry j's ray found
+  BackendArray<int> queue[2];       // the live paths: this bounce's, the next bounce's
+  BackendArray<int> shadow_queue;   // paths with shadow rays to trace
+  BackendArray<unsigned> counters;  // [0]: next queue's length, [1]: shadow queue's length
+};
+
+// The wavefront's statistics of its last pass, for the report.
+struct WavefrontPass {
+  int bounces = 0;                 // extend stages run
+  long long extended = 0;          // rays traced by extend, over every bounce
+  long long shadow_rays_paths = 0; // paths queued for connect, over every bounce
+};
+
+// Registers per thread of the wavefront's largest stage kernel (extend, shade or connect);
+// needs a usable GPU.
+int wavefront_registers(KernelKind kernel, unsigned features);
+
+// Adds `samples` samples per pixel to `sums`, one pass of the stages per sample; the same
+// numbers and the same additions as accumulate_megakernel, so the same sums.
+WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned features,
+                                   Strategy strategy, const PathSceneView& scene,
+                                   const ch03::Camera<float>& camera, unsigned first_sample,
+                                   int samples, float4* sums, unsigned* non_finite,
+                                   WavefrontQueues& queues);
+
+} // namespace rt::ch11

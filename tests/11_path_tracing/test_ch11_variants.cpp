@@ -1,0 +1,136 @@
+// Chapter 11 tests that different code gives the same image: the specialised kernel and the
+// all-features kernel, the megakernel and the wavefront stages, one run and the next; and
+// that the Cornell room renders alike at every scale, without NaN.
+#include <cmath>
+
+#include "rt_catch.h"
+
+#include "collapse.h"
+#include "path_cases.h"
+
+using namespace rt;
+using namespace rt::ch11;
+using namespace rt::ch11::testing;
+
+namespace {
+
+const Extent k_small{40, 30};
+
+PathScene room_with_sky_and_sun() { // every feature on: the all-features kernel's case too
+  PathScene room = load_path_scene(k_room);
+  room.environment.sky = {0.2f, 0.3f, 0.4f};
+  room.environment.sun_direction = normalize(Vec3f{0.3f, 1.0f, 0.5f});
+  room.environment.sun_irradiance = {1.0f, 1.0f, 1.0f};
+  return room;
+}
+
+} // namespace
+
+TEST_CASE("specialised and all-features kernels give the same sums", "[ch11]") {
+  const PathScene room = load_path_scene(k_room);
+  REQUIRE(features_used(room) == k_emitters);
+  for (const Strategy strategy : {Strategy::mis, Strategy::bsdf}) {
+    const auto specialised =
+        render_sums(room, Backend::cpu, cornell_camera(), k_small, 4,
+                    {PathVariant::megakernel, KernelKind::specialised, strategy});
+    const auto all = render_sums(room, Backend::cpu, cornell_camera(), k_small, 4,
+                                 {PathVariant::megakernel, KernelKind::all_features, strategy});
+    CHECK(same_sums(specialised, all));
+  }
+  // An open scene lit by the sky and the sun alone, a dark disc's shadow on a floor: another
+  // specialised kernel.
+  PathScene open = make_disc_over_floor(0.5f, 1.0f, 0.0f, 0.6f, 8.0f, 16);
+  open.environment = room_with_sky_and_sun().environment;
+  REQUIRE(features_used(open) == (k_sky | k_sun));
+  CameraSpec camera;
+  camera.eye = {0.0, 3.0, 4.0};
+  camera.target = {0.0, 0.0, 0.0};
+  const auto specialised = render_sums(open, Backend::cpu, camera, k_small, 4);
+  const auto all = render_sums(open, Backend::cpu, camera, k_small, 4,
+                               {PathVariant::megakernel, KernelKind::all_features});
+  CHECK(same_sums(specialised, all));
+  CHECK(specialised[k_small.width * k_small.height / 2].x > 0.0f); // lit, not black
+}
+
+TEST_CASE("megakernel and wavefront give the same sums, every feature on", "[ch11]") {
+  const PathScene room = room_with_sky_and_sun();
+  REQUIRE(features_used(room) == k_all_path_features);
+  for (const KernelKind kernel : {KernelKind::specialised, KernelKind::all_features}) {
+    const auto mega = render_sums(room, Backend::cpu, cornell_camera(), k_small, 3,
+                                  {PathVariant::megakernel, kernel, Strategy::mis});
+    const auto wave = render_sums(room, Backend::cpu, cornell_camera(), k_small, 3,
+                                  {PathVariant::wavefront, kernel, Strategy::mis});
+    CHECK(same_sums(mega, wave));
+  }
+}
+
+TEST_CASE("the CPU renders the same sums twice, and progressively as at once", "[ch11]") {
+  const PathScene room = load_path_scene(k_room);
+  const auto first = render_sums(room, Backend::cpu, cornell_camera(), k_small, 4);
+  CHECK(same_sums(first, render_sums(room, Backend::cpu, cornell_camera(), k_small, 4)));
+  PathRenderer renderer(room, Backend::cpu);
+  renderer.restart(cornell_camera(), k_small);
+  for (int i = 0; i < 4; ++i) renderer.add_samples({}, 1);
+  CHECK(same_sums(first, renderer.sums()));
+  CHECK(renderer.non_finite() == 0);
+}
+
+TEST_CASE("the Cornell room from scale 1 to 1e6: the same image, no NaN", "[ch11]") {
+  const Extent extent{32, 24};
+  const int samples = 16;
+  const PathScene room = load_path_scene(k_room);
+  const std::vector<Vec3f> unit =
+      render_mean(room, Backend::cpu, cornell_camera(), extent, samples);
+  double unit_mean = 0.0;
+  for (const Vec3f& p : unit) unit_mean += (p.x + p.y + p.z) / 3.0 / double(unit.size());
+  for (const double scale : {1e-3, 1e3, 1e6}) {
+    CAPTURE(scale);
+    PathScene scaled = room;
+    scale_scene(scaled, scale);
+    unsigned long long non_finite = 1;
+    const std::vector<Vec3f> image =
+        render_mean(scaled, Backend::cpu, scaled_camera(cornell_camera(), scale), extent,
+                    samples, {}, &non_finite);
+    CHECK(non_finite == 0);
+    // The same random numbers follow nearly the same paths: a self-hit would end a path
+    // early (darker) and an escape through a wall would lose it (darker still).
+    double difference = 0.0, mean = 0.0;
+    for (std::size_t i = 0; i < image.size(); ++i) {
+      const Vec3f d = image[i] - unit[i];
+      difference += (std::abs(d.x) + std::abs(d.y) + std::abs(d.z)) / 3.0 / double(unit.size());
+      mean += (image[i].x + image[i].y + image[i].z) / 3.0 / double(unit.size());
+    }
+    CHECK(mean == Approx(unit_mean).epsilon(0.01));
+    CHECK(difference < 0.02 * unit_mean);
+  }
+}
+
+TEST_CASE("rays spawned from every triangle of the room never hit it again, at any scale",
+          "[ch11]") {
+  for (const double scale : {1.0, 1e-3, 1e3, 1e6}) {
+    CAPTURE(scale);
+    PathScene room = load_path_scene(k_room);
+    scale_scene(room, scale);
+    const ch09::CompressedBvh tree =
+        ch09::compress(ch09::build_wide_layout(room.mesh, 8, ch09::Collapse::sah));
+    long long self_hits = 0, rays = 0;
+    for (int i = 0; i < static_cast<int>(room.mesh.triangles.size()); ++i) {
+      const ch04::TriangleF t = room.mesh.triangle(i);
+      for (unsigned k = 0; k < 64; ++k) {
+        const Vec3f p = point_on_triangle(t.v0, t.v1, t.v2, sample_number(i, k, 1, 0),
+                                          sample_number(i, k, 1, 1));
+        for (const float side : {1.0f, -1.0f}) { // both faces reflect
+          const Vec3f n = front_normal(t, {0, 1, 0}) * side;
+          const Vec3f d = frame_around(n).to_world(
+              cosine_direction(sample_number(i, k, 1, 2), sample_number(i, k, 1, 3)));
+          const ch07::TraceHit hit =
+              ch09::trace_wide<Query::closest>(tree.view(), {spawn_origin(p, n, t), d});
+          self_hits += hit.triangle == i ? 1 : 0;
+          ++rays;
+        }
+      }
+    }
+    CHECK(rays == 218 * 64 * 2);
+    CHECK(self_hits == 0);
+  }
+}
