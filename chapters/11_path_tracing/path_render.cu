@@ -146,7 +146,7 @@ void tone_map(Backend backend, const float4* sums, Extent extent, float exposure
 
 // The scene's arrays in device memory.
 struct DevicePathScene {
-  ch09::DeviceWideTree<ch09::CompressedNode> tree;
+  ch09::DeviceWideTree<ch09::WideNode<4>, ch09::PackedTriangles> tree;
   DeviceBuffer<Vec3f> vertices;
   DeviceBuffer<ch04::IndexedTriangle> triangles;
   DeviceBuffer<int> material;
@@ -157,10 +157,10 @@ struct DevicePathScene {
 
 namespace {
 
-PathSceneView make_view(const PathScene& scene, ch09::WideTreeView<ch09::CompressedNode> tree,
-                        const Vec3f* vertices, const ch04::IndexedTriangle* triangles,
-                        const int* material, const PathMaterial* materials,
-                        const int* light_triangles, const float* light_cdf) {
+PathSceneView make_view(const PathScene& scene, PathTree::View tree, const Vec3f* vertices,
+                        const ch04::IndexedTriangle* triangles, const int* material,
+                        const PathMaterial* materials, const int* light_triangles,
+                        const float* light_cdf) {
   return {tree,
           {vertices, triangles, static_cast<int>(scene.mesh.triangles.size())},
           material,
@@ -176,11 +176,11 @@ PathSceneView make_view(const PathScene& scene, ch09::WideTreeView<ch09::Compres
 
 PathRenderer::PathRenderer(const PathScene& scene, Backend backend)
     : scene_(scene), backend_(backend), features_(features_used(scene)),
-      tree_(ch09::compress(ch09::build_wide_layout(scene.mesh, 8, ch09::Collapse::sah))) {
+      tree_(build_path_tree(scene.mesh)) {
   const PathScene& s = scene_;
   if (backend_ == Backend::gpu) {
     device_ = std::make_unique<DevicePathScene>(
-        DevicePathScene{ch09::DeviceWideTree<ch09::CompressedNode>(tree_),
+        DevicePathScene{ch09::DeviceWideTree<ch09::WideNode<4>, ch09::PackedTriangles>(tree_),
                         DeviceBuffer<Vec3f>(std::span<const Vec3f>(s.mesh.vertices)),
                         DeviceBuffer<ch04::IndexedTriangle>(
                             std::span<const ch04::IndexedTriangle>(s.mesh.triangles)),

@@ -81,7 +81,7 @@ private:
   PathScene scene_; // a copy: the host view points into it
   Backend backend_;
   unsigned features_;
-  ch09::CompressedBvh tree_;
+  PathTree tree_;
   std::unique_ptr<struct DevicePathScene> device_; // on the GPU backend
   PathSceneView view_{};
   ch03::Camera<float> camera_{};

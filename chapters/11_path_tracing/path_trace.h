@@ -9,6 +9,7 @@
 
 #include <vector_types.h>
 
+#include "collapse.h"
 #include "path_random.h"
 #include "path_sampling.h"
 #include "path_scene.h"
@@ -41,11 +42,19 @@ enum class Strategy : int {
 // carry the most light and ending them would add the most variance.
 inline constexpr int k_roulette_from_vertex = 3;
 
+// The tree paths are traced through: chapter 09's 4-wide tree with 40-byte triangles, the one
+// that met all of that chapter's GPU targets (speed and at most 64 bytes per triangle).
+using PathTree = ch09::Wide4PackedBvh;
+inline PathTree build_path_tree(const ch04::Mesh& mesh) {
+  return ch09::pack_wide<4, ch09::PackedTriangles>(
+      ch09::build_wide_layout(mesh, 4, ch09::Collapse::sah));
+}
+
 // The scene as the kernels read it (device pointers on the GPU, host pointers on the CPU).
 struct PathSceneView {
-  ch09::WideTreeView<ch09::CompressedNode> tree; // chapter 09's compressed wide tree
-  ch04::MeshView mesh;                           // positions, by the mesh's triangle numbers
-  const int* material;                           // per triangle
+  PathTree::View tree; // chapter 09's wide tree
+  ch04::MeshView mesh; // positions, by the mesh's triangle numbers
+  const int* material; // per triangle
   const PathMaterial* materials;
   const int* light_triangles; // LightTable::triangles
   const float* light_cdf;     // LightTable::cdf

@@ -111,8 +111,7 @@ TEST_CASE("rays spawned from every triangle of the room never hit it again, at a
     CAPTURE(scale);
     PathScene room = load_path_scene(k_room);
     scale_scene(room, scale);
-    const ch09::CompressedBvh tree =
-        ch09::compress(ch09::build_wide_layout(room.mesh, 8, ch09::Collapse::sah));
+    const PathTree tree = build_path_tree(room.mesh);
     long long self_hits = 0, rays = 0;
     for (int i = 0; i < static_cast<int>(room.mesh.triangles.size()); ++i) {
       const ch04::TriangleF t = room.mesh.triangle(i);
