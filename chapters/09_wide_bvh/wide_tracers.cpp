@@ -40,10 +40,10 @@ const TracerInfo& info(ChapterTracer tracer) {
 
 // A stored wide tree as a tracer: shared by its functions, on the GPU uploaded once.
 template <class Node>
-Tracer wide_tracer(ChapterTracer which, WideTree<Node> built, const TracerScene& scene) {
+Tracer wide_tracer(std::string name, WideTree<Node> built, const TracerScene& scene) {
   const auto tree = std::make_shared<const WideTree<Node>>(std::move(built));
   Tracer tracer;
-  tracer.name = to_string(which);
+  tracer.name = std::move(name);
   tracer.rule = ch07::HitRule::ties_allowed;
   tracer.bytes_per_triangle = tree->stats.bytes_per_triangle;
   tracer.trace_cpu = [tree](Query query, std::span<const RayF> rays, std::span<MeshHit> hits) {
@@ -95,21 +95,25 @@ Tracer make_wide(ChapterTracer which, BinaryTrees& binary, const TracerScene& sc
   if (which == ChapterTracer::wide4) {
     Wide4Bvh stored = pack_wide<4>(layout);
     report(stored.stats);
-    return wide_tracer(which, std::move(stored), scene);
+    return wide_tracer(to_string(which), std::move(stored), scene);
   }
   if (which == ChapterTracer::wide8) {
     Wide8Bvh stored = pack_wide<8>(layout);
     report(stored.stats);
-    return wide_tracer(which, std::move(stored), scene);
+    return wide_tracer(to_string(which), std::move(stored), scene);
   }
   CompressedBvh stored = compress(layout);
   report(stored.stats);
-  return wide_tracer(which, std::move(stored), scene);
+  return wide_tracer(to_string(which), std::move(stored), scene);
 }
 
 } // namespace
 
 const char* to_string(ChapterTracer tracer) { return info(tracer).name; }
+
+Tracer wide4_tracer(std::string name, Wide4Bvh tree, const TracerScene& scene) {
+  return wide_tracer(std::move(name), std::move(tree), scene);
+}
 
 ChapterTracer parse_tracer(std::string_view name) {
   std::string names;

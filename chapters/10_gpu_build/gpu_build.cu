@@ -9,14 +9,10 @@
 #include <optional>
 #include <utility>
 
-#include <cub/device/device_radix_sort.cuh>
-#include <cub/device/device_reduce.cuh>
-
+#include "build_passes.cuh"
 #include "bvh_build.h"
 #include "karras.h"
 #include "model_render.h"
-#include "parallel.h"
-#include "refit.h"
 #include "rt/error.h"
 
 namespace rt::ch10 {
@@ -27,60 +23,7 @@ const char* to_string(CodeWidth width) {
 
 namespace {
 
-using ch04::IndexedTriangle;
-using ch04::MeshView;
-
-// The bounds of the triangles and of their centroids, reduced over the mesh.
-struct SceneBounds {
-  Aabb box;
-  Aabb centroids;
-};
-
-struct JoinBounds {
-  RT_HD SceneBounds operator()(SceneBounds a, const SceneBounds& b) const {
-    a.box.grow(b.box);
-    a.centroids.grow(b.centroids);
-    return a;
-  }
-};
-
-// The mesh where the backend reads it.
-struct MeshArrays {
-  Array<Vec3f> vertices;
-  Array<IndexedTriangle> triangles;
-  MeshArrays(Backend backend, const ch04::Mesh& mesh)
-      : vertices(backend, std::span<const Vec3f>(mesh.vertices)),
-        triangles(backend, std::span<const IndexedTriangle>(mesh.triangles)) {}
-  MeshView view() {
-    return {vertices.data(), triangles.data(), static_cast<int>(triangles.size())};
-  }
-};
-
-// Pass 1: each triangle's box, and its share of the scene's bounds.
-struct BoxTriangles {
-  MeshView mesh;
-  Aabb* boxes;
-  SceneBounds* bounds;
-  RT_HD void operator()(int i) const {
-    const Aabb box = triangle_box(mesh.triangle(i));
-    boxes[i] = box;
-    Aabb centroid;
-    centroid.grow(box_centroid(box));
-    bounds[i] = {box, centroid};
-  }
-};
-
-// Pass 2: each triangle's Morton code, and its number beside it for the sort.
-template <class Code> struct EncodeTriangles {
-  const Aabb* boxes;
-  const SceneBounds* scene;
-  Code* codes;
-  int* ids;
-  RT_HD void operator()(int i) const {
-    codes[i] = morton_code<Code>(boxes[i], scene->centroids);
-    ids[i] = i;
-  }
-};
+using namespace passes;
 
 // Pass 3: interior node i of the Karras tree, and its children's parent links.
 template <class Code> struct BuildHierarchy {
@@ -96,15 +39,6 @@ template <class Code> struct BuildHierarchy {
     if (i == 0) parents[0] = -1;
   }
 };
-
-// Sets a flag that many threads may set at once.
-RT_HD inline void mark(int* flag) {
-#if RT_ON_DEVICE
-  *flag = 1;
-#else
-  __atomic_store_n(flag, 1, __ATOMIC_RELAXED);
-#endif
-}
 
 // [listing:depth_first_index]
 // Pass 4: where interior node i goes in chapter 07's depth-first array. Before a node, a
@@ -154,14 +88,6 @@ struct WriteLayout {
   }
 };
 
-// The triangle copies in leaf order.
-struct GatherTriangles {
-  MeshView mesh;
-  const int* ids;
-  TriangleF* triangles;
-  RT_HD void operator()(int k) const { triangles[k] = mesh.triangle(ids[k]); }
-};
-
 // Parent links of a tree in chapter 07's layout (the refit of a tree this chapter did not
 // build).
 struct LinkParents {
@@ -175,135 +101,39 @@ struct LinkParents {
   }
 };
 
-struct RefitNodes {
-  RefitView tree;
-  RT_HD void operator()(int i) const { refit_node(tree, i); }
-};
-
-// Scratch memory of CUB's reduce and sort, sized before the clock starts.
-template <class Code> std::size_t cub_scratch_bytes(int n) {
-  std::size_t reduce = 0, sort = 0;
-  RT_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, reduce, static_cast<SceneBounds*>(nullptr),
-                                          static_cast<SceneBounds*>(nullptr), n, JoinBounds{},
-                                          SceneBounds{}));
-  RT_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(
-      nullptr, sort, static_cast<Code*>(nullptr), static_cast<Code*>(nullptr),
-      static_cast<int*>(nullptr), static_cast<int*>(nullptr), n));
-  return std::max<std::size_t>({reduce, sort, 1});
-}
-
-void reduce_bounds(Backend backend, Array<SceneBounds>& per_triangle, Array<SceneBounds>& out,
-                   Array<unsigned char>& scratch) {
-  const int n = static_cast<int>(per_triangle.size());
-  if (backend == Backend::cpu) {
-    SceneBounds all;
-    for (int i = 0; i < n; ++i) all = JoinBounds{}(all, per_triangle.data()[i]);
-    out.data()[0] = all;
-    return;
-  }
-  std::size_t bytes = scratch.size();
-  RT_CUDA_CHECK(cub::DeviceReduce::Reduce(scratch.data(), bytes, per_triangle.data(),
-                                          out.data(), n, JoinBounds{}, SceneBounds{}));
-}
-
-// [listing:sort_codes]
-// Codes and triangle numbers sorted by code. Both sorts are stable and the numbers start in
-// order, so equal codes keep their triangles in number order on both backends.
-template <class Code>
-void sort_by_code(Backend backend, Array<Code>& codes, Array<int>& ids, Array<Code>& codes_out,
-                  Array<int>& ids_out, Array<unsigned char>& scratch) {
-  const int n = static_cast<int>(codes.size());
-  if (backend == Backend::cpu) {
-    std::vector<std::pair<Code, int>> pairs(n);
-    for (int i = 0; i < n; ++i) pairs[i] = {codes.data()[i], ids.data()[i]};
-    std::stable_sort(pairs.begin(), pairs.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (int i = 0; i < n; ++i) std::tie(codes_out.data()[i], ids_out.data()[i]) = pairs[i];
-    return;
-  }
-  constexpr int code_bits = 3 * CodeTraits<Code>::bits_per_axis; // the bits above are zero
-  std::size_t bytes = scratch.size();
-  RT_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(scratch.data(), bytes, codes.data(),
-                                                codes_out.data(), ids.data(), ids_out.data(), n,
-                                                0, code_bits));
-}
-// [/listing:sort_codes]
-
-// The boxes of a laid-out tree, from the bottom up (refit.h).
-void box_bottom_up(Backend backend, Array<BvhNode>& nodes, const Array<int>& parents,
-                   const Array<TriangleF>& triangles) {
-  const int count = static_cast<int>(nodes.size());
-  Array<unsigned> arrivals(backend, nodes.size());
-  arrivals.fill_bytes(0);
-  for_each_index(backend, count,
-                 RefitNodes{{nodes.data(), parents.data(), arrivals.data(), triangles.data()}});
-}
-
-// Device memory a build of n triangles needs, roughly, per triangle: the mesh, boxes and
-// bounds, codes and numbers twice over, the Karras nodes and the laid-out tree.
-std::size_t device_bytes_per_triangle() {
-  return 3 * sizeof(Vec3f) + sizeof(IndexedTriangle) + sizeof(Aabb) + sizeof(SceneBounds) +
-         4 * sizeof(std::uint64_t) + sizeof(KarrasNode) + 4 * sizeof(int) + sizeof(BvhNode) +
-         sizeof(TriangleF) + 2 * sizeof(unsigned) + 64;
-}
-
-// A mesh of one triangle: chapter 07's root whose child 0 is the whole mesh's leaf.
-ch07::Bvh single_leaf_tree(const ch04::Mesh& mesh) {
-  ch07::Bvh bvh;
-  bvh.triangles = {mesh.triangle(0)};
-  bvh.triangle_ids = {0};
-  bvh.bounds = triangle_box(bvh.triangles[0]);
-  BvhNode root;
-  root.box[0] = bvh.bounds;
-  root.first[0] = 0;
-  root.count[0] = 1;
-  root.first[1] = -1;
-  root.count[1] = 0;
-  bvh.nodes = {root};
-  return bvh;
-}
-
 // The whole LBVH from codes of type Code; nothing when the tree is deeper than the traversal
 // stack allows.
 template <class Code>
 std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh) {
   const int n = static_cast<int>(mesh.triangles.size());
-  MeshArrays d_mesh(backend, mesh);
-  Array<Aabb> boxes(backend, n);
-  Array<SceneBounds> bounds(backend, n), scene(backend, 1);
-  Array<Code> codes(backend, n), sorted_codes(backend, n);
-  Array<int> ids(backend, n), sorted_ids(backend, n), parents(backend, n - 1),
-      index(backend, n - 1), out_parents(backend, n - 1), too_deep(backend, 1);
+  MortonOrder<Code> order(backend, mesh);
+  Array<int> parents(backend, n - 1), index(backend, n - 1), out_parents(backend, n - 1),
+      too_deep(backend, 1);
   Array<KarrasNode> karras(backend, n - 1);
   Array<BvhNode> nodes(backend, n - 1);
   Array<TriangleF> triangles(backend, n);
-  Array<unsigned char> scratch(backend,
-                               backend == Backend::gpu ? cub_scratch_bytes<Code>(n) : 0);
   too_deep.fill_bytes(0);
 
   PassClock clock(backend);
-  for_each_index(backend, n, BoxTriangles{d_mesh.view(), boxes.data(), bounds.data()});
-  reduce_bounds(backend, bounds, scene, scratch);
-  for_each_index(backend, n,
-                 EncodeTriangles<Code>{boxes.data(), scene.data(), codes.data(), ids.data()});
-  sort_by_code(backend, codes, ids, sorted_codes, sorted_ids, scratch);
-  for_each_index(backend, n - 1,
-                 BuildHierarchy<Code>{sorted_codes.data(), n, karras.data(), parents.data()});
+  order.sort();
+  for_each_index(
+      backend, n - 1,
+      BuildHierarchy<Code>{order.sorted_codes.data(), n, karras.data(), parents.data()});
   for_each_index(backend, n - 1,
                  PlaceDepthFirst{karras.data(), parents.data(), index.data(), too_deep.data()});
   if (too_deep.to_host()[0] != 0) return std::nullopt;
   for_each_index(backend, n - 1,
                  WriteLayout{karras.data(), index.data(), nodes.data(), out_parents.data()});
   for_each_index(backend, n,
-                 GatherTriangles{d_mesh.view(), sorted_ids.data(), triangles.data()});
+                 GatherTriangles{order.mesh.view(), order.sorted_ids.data(), triangles.data()});
   box_bottom_up(backend, nodes, out_parents, triangles);
   GpuBuild build;
   build.build_ms = clock.milliseconds();
   build.codes = sizeof(Code) == 4 ? CodeWidth::bits30 : CodeWidth::bits63;
   build.bvh.nodes = nodes.to_host();
   build.bvh.triangles = triangles.to_host();
-  build.bvh.triangle_ids = sorted_ids.to_host();
-  build.bvh.bounds = scene.to_host()[0].box;
+  build.bvh.triangle_ids = order.sorted_ids.to_host();
+  build.bvh.bounds = order.scene.to_host()[0].box;
   return build;
 }
 

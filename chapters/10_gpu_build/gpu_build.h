@@ -33,6 +33,19 @@ void check_build_input(const ch04::Mesh& mesh);
 // GPU lacks the memory for the build.
 GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes);
 
+// PLOC's search radius: each cluster looks for its nearest neighbour among this many clusters
+// on either side of it in Morton order.
+inline constexpr int k_ploc_radius = 8;
+
+// PLOC (Meister & Bittner 2018) on the resolved backend: the triangles in 30-bit Morton order
+// are clusters; every cluster finds the neighbour within `radius` whose merged box has the
+// smallest surface area, pairs that chose each other merge, and the rounds go on until one
+// cluster is left. One triangle per leaf, laid out depth first; both backends give the same
+// tree bit for bit. A tree deeper than chapter 07's stack allows is replaced by the 30-bit
+// LBVH (GpuBuild::note says so). Throws InputError as build_lbvh does, and for a radius
+// outside 1..64.
+GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc_radius);
+
 // New boxes for the same tree after the mesh's vertices moved (same triangles, same vertex
 // count): the triangle copies are taken again from `mesh`, every box is recomputed from the
 // bottom up, and bounds and the SAH cost follow. Any tree in chapter 07's layout. Returns the

@@ -144,6 +144,30 @@ TEST_CASE("a chain of powers of two stays within the traversal's depth bound", "
   CHECK(problems_of(kept.bvh, small).empty());
 }
 
+TEST_CASE("PLOC trees pass chapter 07's checker, give brute force's hits, cost less",
+          "[ch10]") {
+  for (const Vec3f centre : {Vec3f{}, Vec3f{-1e5f, 2e4f, 1e5f}}) {
+    CAPTURE(centre.x);
+    const Mesh scene = rt::testing::mixed_scene(3000, 13);
+    Mesh moved = scene;
+    for (Vec3f& v : moved.vertices) v = v + centre;
+    const GpuBuild ploc = build_ploc(Backend::cpu, moved);
+    CHECK(problems_of(ploc.bvh, moved).empty());
+    CHECK(ploc.note.empty());
+    const auto rays = rt::testing::random_rays(3000, 19, centre, 10.0f);
+    CHECK(brute_force_mismatches(ploc.bvh.view(), moved, rays) == 0);
+    // Merging by area beats splitting by Morton bits.
+    const GpuBuild lbvh = build_lbvh(Backend::cpu, moved, CodeWidth::bits30);
+    CHECK(ploc.bvh.stats.sah_cost < lbvh.bvh.stats.sah_cost);
+  }
+  for (const Mesh& mesh : {identical_triangles(1000), power_of_two_chain(4096),
+                           rt::testing::single_triangle(), Mesh{}}) {
+    const GpuBuild ploc = build_ploc(Backend::cpu, mesh, 1);
+    CHECK(problems_of(ploc.bvh, mesh).empty());
+  }
+  CHECK_THROWS_AS(build_ploc(Backend::cpu, identical_triangles(4), 0), InputError);
+}
+
 TEST_CASE("the refit of a bent mesh passes the checker and gives brute force's hits",
           "[ch10]") {
   const Mesh scene = rt::testing::mixed_scene(1500, 29);
