@@ -88,11 +88,11 @@ ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_bu
       BuiltTree tree = build_tree(builder, scene.backend, scene.mesh);
       if (on_build) on_build(scene.name, builder, tree);
       const ch09::WideLayout layout = ch09::collapse(tree.bvh, 4, ch09::Collapse::sah);
-      out.push_back(ch09::wide4_tracer(std::string(to_string(builder)) + " 4-wide",
-                                       ch09::pack_wide<4>(layout), scene));
       ch07::Tracer binary = ch07::bvh_tracer(to_string(builder), std::move(tree.bvh), scene);
       binary.rule = ch07::HitRule::ties_allowed; // another tree: exact ties may go either way
       out.push_back(std::move(binary));
+      out.push_back(ch09::wide4_tracer(std::string(to_string(builder)) + " 4-wide",
+                                       ch09::pack_wide<4>(layout), scene));
     }
     return out;
   };
