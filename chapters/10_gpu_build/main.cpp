@@ -8,20 +8,18 @@
 //   --dump-hits FILE --ray-type T     the protocol's hits of one view through --builder's tree
 //   --benchmark [SCENE...]            every builder on the benchmark set (default) or the
 //   scenes
-#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "animation.h"
 #include "builders.h"
 #include "bvh_render.h"
 #include "bvh_trace.h"
 #include "camera_cli.h"
+#include "moving_program.h"
 #include "program.h"
 #include "query_modes.h"
-#include "rt/output_file.h"
 #include "rt/program_output.h"
 #include "runner.h"
 #include "shaded_render.h"
@@ -37,8 +35,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   std::optional<Builder> builder; // --builder: the one built (queries) or measured
   bool moving = false;            // --moving
   std::optional<Update> update;   // --update: one of them; both by default
-  int detail = 316;               // --detail
-  std::string csv_path;           // --animation-csv
+  MovingOptions animation;        // --detail, --animation-csv
   bool skip_cpu = false;
 };
 
@@ -81,69 +78,15 @@ int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
   return 0;
 }
 
-int run_moving_mode(const ChapterOptions& options, Backend backend) {
-  AnimationOptions animation;
-  animation.backend = backend;
-  animation.builder = options.builder.value_or(Builder::lbvh);
-  if (options.update) animation.updates = {*options.update};
-  if (options.common.frames > 0) animation.frames = options.common.frames;
-  animation.detail = options.detail;
-  animation.extent = options.common.extent();
-  if (!options.csv_path.empty()) check_output_path(options.csv_path, "--animation-csv");
-  Report report = start_report(
-      "Chapter 10: a moving scene, its tree " +
-          std::string(options.update ? to_string(*options.update) : "rebuilt and refitted") +
-          " every frame",
-      "Mpix/s", "the tree's SAH cost against the first frame's", backend);
-  const AnimationResult result = run_animation(animation);
-  report.add_context("scene", "rippling torus, four orbiting spheres and a floor, " +
-                                  group_digits(result.triangles) + " triangles, " +
-                                  std::to_string(animation.frames) + " frames");
-  for (int frame = 0; frame < animation.frames; ++frame) {
-    std::cout << "frame " << frame;
-    for (std::size_t u = 0; u < animation.updates.size(); ++u) {
-      const FrameFigures& f = result.frames[u][frame];
-      std::cout << (u == 0 ? ": " : "; ") << to_string(animation.updates[u]) << " "
-                << format_fixed(f.tree_ms, 2) << " ms + frame " << format_fixed(f.trace_ms, 2)
-                << " ms, SAH cost " << format_fixed(f.sah_cost, 1);
-    }
-    std::cout << "\n";
-  }
-  for (std::size_t u = 0; u < animation.updates.size(); ++u) {
-    const std::vector<FrameFigures>& frames = result.frames[u];
-    double tree = 0, trace = 0;
-    for (const FrameFigures& f : frames) tree += f.tree_ms, trace += f.trace_ms;
-    const double n = double(frames.size()),
-                 growth = frames.back().sah_cost / frames[0].sah_cost;
-    const std::string name = to_string(animation.updates[u]);
-    report.add_row({std::string(to_string(animation.builder)) + ", " + name,
-                    to_string(backend),
-                    (tree + trace) / n,
-                    animation.extent.pixel_count() / ((tree + trace) / n * 1e3),
-                    format_fixed(tree / n, 2) + " ms tree + " + format_fixed(trace / n, 2) +
-                        " ms frame; SAH cost x" + format_fixed(growth, 3) +
-                        " by the last frame",
-                    {{"tree_ms", tree / n}, {"trace_ms", trace / n}, {"sah_growth", growth}}});
-  }
-  if (!options.csv_path.empty()) {
-    const std::string csv = animation_csv(animation, result);
-    write_output_file(options.csv_path, "--animation-csv",
-                      [&](std::FILE* file) { std::fputs(csv.c_str(), file); });
-    std::cout << "wrote " << options.csv_path << "\n";
-  }
-  if (!options.common.output.empty()) {
-    write_image(options.common.output, result.last_frame);
-    std::cout << "wrote " << options.common.output << " (the last frame)\n";
-  }
-  finish_report(report, options.common);
-  return 0;
-}
-
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
   if (options.query.benchmark) return run_benchmark_mode(options, backend);
-  if (options.moving) return run_moving_mode(options, backend);
+  if (options.moving) {
+    options.animation.animation.builder = options.builder.value_or(Builder::lbvh);
+    if (options.update) options.animation.animation.updates = {*options.update};
+    return run_moving_program(options, options.animation, backend);
+  }
   if (options.query.query())
     return ch07::run_query(options.query, options, backend, {},
                            ch04::TriangleVariant::watertight,
@@ -225,24 +168,25 @@ int main(int argc, char** argv) {
          "tree; the measurements then compare it with cpu_sah alone)")
       ->default_str("all (queries and --moving: lbvh)");
   app.add_flag("--moving", options.moving,
-               "The moving scene, headless: --frames frames (default 60), the tree rebuilt "
-               "and refitted every frame, per-frame figures in the report");
+               "The moving scene: in the window, its tree updated for every frame drawn "
+               "(--update, default rebuild); headless, --frames frames (default 60) with the "
+               "tree rebuilt and refitted, each frame's figures printed");
   app.add_option_function<std::string>(
          "--update", [&](const std::string& text) { options.update = parse_update(text); },
          "With --moving: rebuild or refit (the tree every frame)")
       ->default_str("both");
-  app.add_option("--detail", options.detail,
+  app.add_option("--detail", options.animation.animation.detail,
                  "With --moving: the torus's segments around (detail^2 triangles)")
       ->check(CLI::Range(8, 4096))
       ->capture_default_str();
-  app.add_option("--animation-csv", options.csv_path,
+  app.add_option("--animation-csv", options.animation.csv_path,
                  "With --moving: write each frame's tree ms, frame ms and SAH cost here");
   app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
     ch07::check_query_options(options.query, app);
     const bool moving_flags =
-        options.update || !options.csv_path.empty() || app.count("--detail") > 0;
+        options.update || !options.animation.csv_path.empty() || app.count("--detail") > 0;
     if (moving_flags && !options.moving)
       throw UsageError("--update, --detail and --animation-csv go with --moving");
     if (options.moving && (options.query.benchmark || options.query.query()))
