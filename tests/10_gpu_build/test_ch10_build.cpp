@@ -195,7 +195,7 @@ TEST_CASE("the refit of a bent mesh passes the checker and gives brute force's h
   CHECK(brute_force_mismatches(sah.view(), moved, rays) == 0);
 }
 
-TEST_CASE("no ray leaks out of a closed mesh through the LBVH or its refit", "[ch10]") {
+TEST_CASE("no ray leaks out of a closed mesh through the LBVH, its refit or PLOC", "[ch10]") {
   for (const ch04::LeakConfiguration& config : ch04::k_leak_configurations) {
     const Mesh mesh = config.make_mesh();
     const std::vector<RayF> rays = ch04::rays_at_vertices_and_edges(
@@ -203,7 +203,8 @@ TEST_CASE("no ray leaks out of a closed mesh through the LBVH or its refit", "[c
     ch07::Bvh bvh = build_lbvh(Backend::cpu, mesh, CodeWidth::bits30).bvh;
     ch07::Bvh refitted = build_lbvh(Backend::cpu, bent(mesh, 0.0f), CodeWidth::bits63).bvh;
     refit_bvh(Backend::cpu, refitted, mesh);
-    for (const ch07::Bvh* tree : {&bvh, &refitted}) {
+    const ch07::Bvh ploc = build_ploc(Backend::cpu, mesh).bvh;
+    for (const ch07::Bvh* tree : {&bvh, &refitted, &ploc}) {
       CAPTURE(config.name);
       int leaks = 0, any_leaks = 0;
       for (const RayF& ray : rays) {
