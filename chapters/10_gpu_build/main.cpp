@@ -142,7 +142,10 @@ int run(ChapterOptions& options) {
           },
   };
   const int code = ch03::run_window_or_headless(options, backend, parts, report);
-  if (!builds.empty()) std::cout << build_table(builds);
+  if (!runs.first.empty())
+    std::cout << ch07::tracer_tables(runs.first, to_string(Builder::cpu_sah), runner,
+                                     describe_backend(backend), ch07::course_anchors(std::cout))
+              << build_table(builds);
   if (runs.problems > 0)
     throw Error("a tree disagrees with chapter 07's hits beyond exact ties");
   return code;
