@@ -48,7 +48,8 @@ GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc
 
 // New boxes for the same tree after the mesh's vertices moved (same triangles, same vertex
 // count): the triangle copies are taken again from `mesh`, every box is recomputed from the
-// bottom up, and bounds and the SAH cost follow. Any tree in chapter 07's layout. Returns the
+// bottom up, and bounds and the SAH cost follow. Any tree in chapter 07's layout that passes
+// its checker for the mesh it was built from (the refit trusts its indices). Returns the
 // time taken, as build_ms is measured. Throws InputError as check_build_input does, and when
 // the mesh has another triangle count than the tree.
 double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh);
