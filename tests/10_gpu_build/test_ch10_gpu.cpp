@@ -1,13 +1,15 @@
 // Chapter 10 tests on the GPU: the same passes on CUDA threads give the CPU threads' tree bit
 // for bit (nodes, their order, the triangle copies and ids), the LBVH of both code widths and
 // PLOC, on random scenes, on equal codes and on the chain that makes 63-bit codes fall back;
-// the GPU refit gives the CPU refit's boxes.
+// the GPU refit gives the CPU refit's boxes, on a bent mesh and on the moving scene's frames.
 #include <vector>
 
 #include "rt_catch.h"
 
 #include "07_bvh/bvh_cases.h"
+#include "animation.h"
 #include "build_cases.h"
+#include "builders.h"
 #include "check_bvh.h"
 #include "gpu_build.h"
 #include "gpu_guard.h"
@@ -61,6 +63,22 @@ TEST_CASE("the GPU's refit is the CPU's, bit for bit", "[ch10][gpu]") {
     refit_bvh(Backend::gpu, on_gpu, moved);
     refit_bvh(Backend::cpu, on_cpu, moved);
     CHECK(ch07::check_bvh(on_gpu, moved).empty());
+    check_same_tree(on_gpu, on_cpu);
+  }
+}
+
+TEST_CASE("the moving scene's frames: GPU builds and refits are the CPU's", "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const ch04::Mesh start = moving_scene_at(0.0, 128).geometry;
+  const ch04::Mesh later = moving_scene_at(2.0, 128).geometry;
+  for (const Builder builder : {Builder::lbvh, Builder::lbvh63, Builder::ploc}) {
+    CAPTURE(to_string(builder));
+    ch07::Bvh on_gpu = build_tree(builder, Backend::gpu, start).bvh;
+    ch07::Bvh on_cpu = build_tree(builder, Backend::cpu, start).bvh;
+    check_same_tree(on_gpu, on_cpu);
+    refit_bvh(Backend::gpu, on_gpu, later);
+    refit_bvh(Backend::cpu, on_cpu, later);
+    CHECK(ch07::check_bvh(on_gpu, later).empty());
     check_same_tree(on_gpu, on_cpu);
   }
 }
