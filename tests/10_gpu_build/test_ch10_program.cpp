@@ -1,7 +1,8 @@
 // Chapter 10 tests of the program itself on the CPU: the report builds with every builder and
 // measures each tree, binary and 4-wide, with chapter 07's hits (in the text and the JSON);
-// --builder narrows it; ray files through the LBVH give brute force's hits; the moving scene
-// writes its frames' figures and image; bad input ends in one error line and a non-zero exit.
+// --builder narrows it; the benchmark mode runs on a small scene; ray files through each tree
+// give brute force's hits; the moving scene writes its frames' figures and image; bad input
+// ends in one error line and a non-zero exit.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -78,6 +79,19 @@ TEST_CASE("program: --builder narrows the builds to it and chapter 07's", "[ch10
   CHECK_THAT(run.output, contains("cornell_room, build PLOC"));
   CHECK_THAT(run.output, contains("cornell_room, build CPU SAH (ch07)"));
   CHECK_THAT(run.output, !contains("cornell_room, build LBVH"));
+}
+
+TEST_CASE("program: the benchmark mode on a small scene", "[ch10]") {
+  const ProgramRun run = run_program("--benchmark " + k_room +
+                                     " --width 48 --height 27 --frames 1 --builder lbvh63");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("| cornell_room |"));
+  CHECK_THAT(run.output, contains("diffuse rays, Mrays/s"));
+  CHECK_THAT(run.output, contains("| LBVH 63-bit | cpu |"));
+  CHECK_THAT(run.output, contains("| CPU SAH (ch07) | cpu |"));
+  CHECK_THAT(run.output, !contains("| PLOC |"));
+  CHECK_THAT(run.output, !contains("DIFFERS"));
 }
 
 TEST_CASE("program: ray files through each built tree give brute force's hits", "[ch10]") {
