@@ -39,7 +39,7 @@ const char* to_string(ChapterTracer tracer);
 // naming the accepted names for an unknown one.
 ChapterTracer parse_tracer(std::string_view name);
 
-// A stored 4-wide tree as a tracer named `name` (chapter 10 collapses its own binary trees).
+// A stored 4-wide tree as a tracer named `name` (for trees collapsed from other binary trees).
 ch07::Tracer wide4_tracer(std::string name, Wide4Bvh tree, const ch07::TracerScene& scene);
 
 // A wide tree's build, for a report row: called once per scene and wide tracer.
