@@ -1,4 +1,4 @@
-// Chapter 10: the passes both of the chapter's builders share: triangle boxes, the scene's
+// Chapter 10: the passes both of the chapter's builders share: triangle boxes, the centroids'
 // bounds, Morton codes and the sort that puts the triangles in Morton order, and at the end the
 // triangle copies in leaf order and the boxes from the bottom up. Included by the .cu files of
 // the builders only (the GPU side needs nvcc).
@@ -25,16 +25,10 @@ namespace rt::ch10::passes {
 using ch04::IndexedTriangle;
 using ch04::MeshView;
 
-// The bounds of the triangles and of their centroids, reduced over the mesh.
-struct SceneBounds {
-  Aabb box;
-  Aabb centroids;
-};
-
-struct JoinBounds {
-  RT_HD SceneBounds operator()(SceneBounds a, const SceneBounds& b) const {
-    a.box.grow(b.box);
-    a.centroids.grow(b.centroids);
+// The union of two boxes: what the reduction to the centroids' bounds joins.
+struct JoinBoxes {
+  RT_HD Aabb operator()(Aabb a, const Aabb& b) const {
+    a.grow(b);
     return a;
   }
 };
@@ -51,28 +45,28 @@ struct MeshArrays {
   }
 };
 
-// Pass 1: each triangle's box, and its share of the scene's bounds.
+// Pass 1: each triangle's box, and its centroid as a box of its own for the reduction.
 struct BoxTriangles {
   MeshView mesh;
   Aabb* boxes;
-  SceneBounds* bounds;
+  Aabb* centroids;
   RT_HD void operator()(int i) const {
     const Aabb box = triangle_box(mesh.triangle(i));
     boxes[i] = box;
     Aabb centroid;
     centroid.grow(box_centroid(box));
-    bounds[i] = {box, centroid};
+    centroids[i] = centroid;
   }
 };
 
 // Pass 2: each triangle's Morton code, and its number beside it for the sort.
 template <class Code> struct EncodeTriangles {
   const Aabb* boxes;
-  const SceneBounds* scene;
+  const Aabb* centroid_bounds;
   Code* codes;
   int* ids;
   RT_HD void operator()(int i) const {
-    codes[i] = morton_code<Code>(boxes[i], scene->centroids);
+    codes[i] = morton_code<Code>(boxes[i], *centroid_bounds);
     ids[i] = i;
   }
 };
@@ -102,27 +96,26 @@ struct RefitNodes {
 // Scratch memory of CUB's reduce and sort, sized before the clock starts.
 template <class Code> inline std::size_t cub_scratch_bytes(int n) {
   std::size_t reduce = 0, sort = 0;
-  RT_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, reduce, static_cast<SceneBounds*>(nullptr),
-                                          static_cast<SceneBounds*>(nullptr), n, JoinBounds{},
-                                          SceneBounds{}));
+  RT_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, reduce, static_cast<Aabb*>(nullptr),
+                                          static_cast<Aabb*>(nullptr), n, JoinBoxes{}, Aabb{}));
   RT_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(
       nullptr, sort, static_cast<Code*>(nullptr), static_cast<Code*>(nullptr),
       static_cast<int*>(nullptr), static_cast<int*>(nullptr), n));
   return std::max<std::size_t>({reduce, sort, 1});
 }
 
-inline void reduce_bounds(Backend backend, Array<SceneBounds>& per_triangle,
-                          Array<SceneBounds>& out, Array<unsigned char>& scratch) {
+inline void reduce_bounds(Backend backend, Array<Aabb>& per_triangle, Array<Aabb>& out,
+                          Array<unsigned char>& scratch) {
   const int n = static_cast<int>(per_triangle.size());
   if (backend == Backend::cpu) {
-    SceneBounds all;
-    for (int i = 0; i < n; ++i) all = JoinBounds{}(all, per_triangle.data()[i]);
+    Aabb all;
+    for (int i = 0; i < n; ++i) all = JoinBoxes{}(all, per_triangle.data()[i]);
     out.data()[0] = all;
     return;
   }
   std::size_t bytes = scratch.size();
   RT_CUDA_CHECK(cub::DeviceReduce::Reduce(scratch.data(), bytes, per_triangle.data(),
-                                          out.data(), n, JoinBounds{}, SceneBounds{}));
+                                          out.data(), n, JoinBoxes{}, Aabb{}));
 }
 
 // [listing:sort_codes]
@@ -174,10 +167,20 @@ inline ch07::Bvh single_leaf_tree(const ch04::Mesh& mesh) {
   return bvh;
 }
 
+// The tree's bounds: the union of the root's two boxes, in that order. A reduction over the
+// triangles' boxes would not do: min and max of +0 and -0 return whichever comes first, so a
+// reduction in another order may give the other zero, where the bottom-up pass joins its boxes
+// in one order on every backend. (The centroids' bounds may differ so; their cells do not.)
+inline Aabb root_bounds(const ch07::Bvh& bvh) {
+  Aabb box = bvh.nodes[0].box[0];
+  box.grow(bvh.nodes[0].box[1]);
+  return box;
+}
+
 // Device memory a build of n triangles needs, roughly, per triangle: the mesh, boxes and
-// bounds, codes and numbers twice over, the Karras nodes or PLOC's clusters and the tree.
+// centroids, codes and numbers twice over, the Karras nodes or PLOC's clusters and the tree.
 inline std::size_t device_bytes_per_triangle() {
-  return 3 * sizeof(Vec3f) + sizeof(IndexedTriangle) + sizeof(Aabb) + sizeof(SceneBounds) +
+  return 3 * sizeof(Vec3f) + sizeof(IndexedTriangle) + 3 * sizeof(Aabb) +
          4 * sizeof(std::uint64_t) + 8 * sizeof(int) + 4 * sizeof(int) + sizeof(BvhNode) +
          sizeof(TriangleF) + 2 * sizeof(unsigned) + 64;
 }
@@ -190,23 +193,24 @@ template <class Code> struct MortonOrder {
   int n;
   MeshArrays mesh;
   Array<Aabb> boxes;
-  Array<SceneBounds> bounds, scene;
+  Array<Aabb> centroids, centroid_bounds;
   Array<Code> codes, sorted_codes;
   Array<int> ids, sorted_ids;
   Array<unsigned char> scratch;
 
   MortonOrder(Backend backend, const ch04::Mesh& m)
       : n(static_cast<int>(m.triangles.size())), mesh(backend, m), boxes(backend, n),
-        bounds(backend, n), scene(backend, 1), codes(backend, n), sorted_codes(backend, n),
-        ids(backend, n), sorted_ids(backend, n),
+        centroids(backend, n), centroid_bounds(backend, 1), codes(backend, n),
+        sorted_codes(backend, n), ids(backend, n), sorted_ids(backend, n),
         scratch(backend, backend == Backend::gpu ? cub_scratch_bytes<Code>(n) : 0),
         backend_(backend) {}
 
   void sort() {
-    for_each_index(backend_, n, BoxTriangles{mesh.view(), boxes.data(), bounds.data()});
-    reduce_bounds(backend_, bounds, scene, scratch);
-    for_each_index(backend_, n,
-                   EncodeTriangles<Code>{boxes.data(), scene.data(), codes.data(), ids.data()});
+    for_each_index(backend_, n, BoxTriangles{mesh.view(), boxes.data(), centroids.data()});
+    reduce_bounds(backend_, centroids, centroid_bounds, scratch);
+    for_each_index(
+        backend_, n,
+        EncodeTriangles<Code>{boxes.data(), centroid_bounds.data(), codes.data(), ids.data()});
     sort_by_code(backend_, codes, ids, sorted_codes, sorted_ids, scratch);
   }
 

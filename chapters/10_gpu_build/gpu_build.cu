@@ -134,7 +134,7 @@ std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh
   build.bvh.nodes = nodes.to_host();
   build.bvh.triangles = triangles.to_host();
   build.bvh.triangle_ids = order.sorted_ids.to_host();
-  build.bvh.bounds = order.scene.to_host()[0].box;
+  build.bvh.bounds = root_bounds(build.bvh);
   return build;
 }
 
@@ -237,8 +237,7 @@ double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {
     for (const TriangleF& t : bvh.triangles) all.grow(triangle_box(t));
     bvh.nodes[0].box[0] = all;
   }
-  bvh.bounds = bvh.nodes[0].box[0];
-  bvh.bounds.grow(bvh.nodes[0].box[1]);
+  bvh.bounds = root_bounds(bvh);
   fill_stats(bvh);
   return ms;
 }

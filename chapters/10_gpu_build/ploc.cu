@@ -286,7 +286,7 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
   build.bvh.nodes = nodes.to_host();
   build.bvh.triangles = triangles.to_host();
   build.bvh.triangle_ids = triangle_ids.to_host();
-  build.bvh.bounds = order.scene.to_host()[0].box;
+  build.bvh.bounds = root_bounds(build.bvh);
   return build;
 }
 
