@@ -122,6 +122,12 @@ python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time
 # book/data); chapters 01-04 drew theirs above.
 for n in 05 06 07 08; do python3 "tools/diagrams/ch$n.py" "$img"; done
 
+# Chapter 10: the moving scene's 90th frame, and the diagram of Karras's tree with the plot of
+# rebuild against refit (from the frames measured on the CPU, book/data/10_animation_cpu.csv).
+"$bin/ch10_gpu_build" --moving --backend cpu --frames 90 --update rebuild --width 320 \
+  --height 180 --output "$img/10_moving.png" >/dev/null
+python3 tools/diagrams/ch10.py "$img"
+
 # Error-against-run-time plots, from the reports measured on a GPU machine (book/data/, written
 # by tools/gpu/run.sh's --json runs and copied there).
 python3 tools/plot-report.py --metric max_relative_t_error --ylabel "max relative t error" \

@@ -41,12 +41,12 @@ const TracerInfo& info(ChapterTracer tracer) {
 
 // A stored wide tree as a tracer: shared by its functions, on the GPU uploaded once.
 template <class Node, class Triangles>
-Tracer wide_tracer(ChapterTracer which, WideTree<Node, Triangles> built,
+Tracer wide_tracer(std::string name, WideTree<Node, Triangles> built,
                    const TracerScene& scene) {
   using Tree = WideTree<Node, Triangles>;
   const auto tree = std::make_shared<const Tree>(std::move(built));
   Tracer tracer;
-  tracer.name = to_string(which);
+  tracer.name = std::move(name);
   tracer.rule = ch07::HitRule::ties_allowed;
   tracer.bytes_per_triangle = tree->stats.bytes_per_triangle;
   tracer.trace_cpu = [tree](Query query, std::span<const RayF> rays, std::span<MeshHit> hits) {
@@ -101,26 +101,30 @@ Tracer make_wide(ChapterTracer which, BinaryTrees& binary, const TracerScene& sc
   if (which == ChapterTracer::wide4) {
     Wide4Bvh stored = pack_wide<4>(layout);
     report(stored.stats);
-    return wide_tracer(which, std::move(stored), scene);
+    return wide_tracer(to_string(which), std::move(stored), scene);
   }
   if (which == ChapterTracer::wide4_packed) {
     Wide4PackedBvh stored = pack_wide<4, PackedTriangles>(layout);
     report(stored.stats);
-    return wide_tracer(which, std::move(stored), scene);
+    return wide_tracer(to_string(which), std::move(stored), scene);
   }
   if (which == ChapterTracer::wide8) {
     Wide8Bvh stored = pack_wide<8>(layout);
     report(stored.stats);
-    return wide_tracer(which, std::move(stored), scene);
+    return wide_tracer(to_string(which), std::move(stored), scene);
   }
   CompressedBvh stored = compress(layout);
   report(stored.stats);
-  return wide_tracer(which, std::move(stored), scene);
+  return wide_tracer(to_string(which), std::move(stored), scene);
 }
 
 } // namespace
 
 const char* to_string(ChapterTracer tracer) { return info(tracer).name; }
+
+Tracer wide4_tracer(std::string name, Wide4PackedBvh tree, const TracerScene& scene) {
+  return wide_tracer(std::move(name), std::move(tree), scene);
+}
 
 ChapterTracer parse_tracer(std::string_view name) {
   std::string names;

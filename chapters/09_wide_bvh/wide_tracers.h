@@ -40,6 +40,11 @@ const char* to_string(ChapterTracer tracer);
 // naming the accepted names for an unknown one.
 ChapterTracer parse_tracer(std::string_view name);
 
+// A stored 4-wide tree with packed triangles (the chapter's `wide4 packed`) as a tracer named
+// `name`, for trees collapsed from other binary trees.
+ch07::Tracer wide4_tracer(std::string name, Wide4PackedBvh tree,
+                          const ch07::TracerScene& scene);
+
 // A wide tree's build, for a report row: called once per scene and wide tracer.
 using BuildSink = std::function<void(const std::string& scene, const std::string& tracer,
                                      const WideStats& stats)>;

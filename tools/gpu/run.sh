@@ -6,12 +6,13 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window models bench bench08 bench09 sass profile
+#   tests memcheck reports window models bench bench08 bench09 bench10 sass profile
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
-# memory paths, `bench09` chapter 09's wide trees against the binary one. `sass` counts the load
-# instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
+# memory paths, `bench09` chapter 09's wide trees against the binary one, `bench10` chapter 10's
+# builders on the benchmark set and its moving scene, rebuilt against refitted. `sass` counts the
+# load instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
 # cache hit rates with Nsight Compute (ncu), where it runs.
 #
 # Offline machines: run tools/gpu/fetch-debs.sh where there is internet, copy .gpu-debs/ (and
@@ -24,7 +25,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 bench09 sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 bench09 bench10 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -115,10 +116,16 @@ if wanted memcheck; then
     [ "$name" = ch07_bvh ] && extra=(--skip-cpu)
     [ "$name" = ch08_texture_memory ] && extra=(--skip-cpu --reference-rays 64)
     [ "$name" = ch09_wide_bvh ] && extra=(--skip-cpu --reference-rays 64)
+    [ "$name" = ch10_gpu_build ] && extra=(--skip-cpu)
     step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
       --output "$logdir/$name-memcheck.png"
   done
+  if [ -x build/native/bin/ch10_gpu_build ]; then # the builds and refits of moving frames
+    step memcheck_ch10_moving compute-sanitizer --tool memcheck --leak-check full \
+      --error-exitcode 9 build/native/bin/ch10_gpu_build --backend gpu --moving --headless \
+      --frames 3 --detail 64 --width 320 --height 181 --output "$logdir/ch10-moving-memcheck.png"
+  fi
 fi
 unset RT_SYNC_CHECK
 
@@ -179,6 +186,17 @@ if wanted bench09 && [ -d "$models" ] && [ -x build/native/bin/ch09_wide_bvh ]; 
   step bench_ch09 build/native/bin/ch09_wide_bvh --backend gpu --benchmark \
     --models "$models" --json "$logdir/bench_ch09.json"
   cat "$logdir/bench_ch09.log"
+fi
+if wanted bench10 && [ -x build/native/bin/ch10_gpu_build ]; then
+  if [ -d "$models" ]; then
+    step bench_ch10 build/native/bin/ch10_gpu_build --backend gpu --benchmark \
+      --models "$models" --json "$logdir/bench_ch10.json"
+    cat "$logdir/bench_ch10.log"
+  fi
+  step moving_ch10 build/native/bin/ch10_gpu_build --backend gpu --moving --headless \
+    --frames 300 --animation-csv "$logdir/ch10_animation.csv" --json "$logdir/moving_ch10.json" \
+    --output "$logdir/ch10_moving.png"
+  tail -8 "$logdir/moving_ch10.log"
 fi
 # Chapter 08's kernels as the GPU runs them: load instructions per kernel, and cache hit rates.
 if wanted sass && [ -x build/native/bin/ch08_texture_memory ]; then

@@ -1,0 +1,174 @@
+// Chapter 10: the moving scene and its frames. See animation.h.
+#include "animation.h"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+#include "bvh_render.h"
+#include "bvh_trace.h"
+#include "gpu_build.h"
+#include "rt/device_buffer.h"
+#include "rt/error.h"
+#include "shaded_render.h"
+#include "shaded_scene.h"
+
+namespace rt::ch10 {
+namespace {
+
+constexpr double k_pi = std::numbers::pi;
+
+// [listing:rippling_torus]
+// The torus around the y axis, its tube's radius rippling with time: every vertex moves every
+// frame, and by different amounts, so no box of last frame's tree stays right.
+ch04::Mesh rippling_torus(double time, int detail) {
+  const int around = detail, across = detail / 2;
+  ch04::Mesh torus;
+  for (int i = 0; i < around; ++i) {
+    const double u = 2.0 * k_pi * i / around;
+    for (int j = 0; j < across; ++j) {
+      const double v = 2.0 * k_pi * j / across;
+      const double tube = 0.55 * (1.0 + 0.25 * std::sin(5.0 * u + 3.0 * v - 2.0 * time));
+      const double ring = 2.0 + tube * std::cos(v);
+      torus.vertices.push_back(
+          Vec3d{ring * std::cos(u), tube * std::sin(v), ring * std::sin(u)}.as<float>());
+    }
+  }
+  const auto at = [&](int i, int j) { return (i % around) * across + (j % across); };
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < across; ++j) {
+      torus.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j)});
+      torus.triangles.push_back({at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)});
+    }
+  return torus;
+}
+// [/listing:rippling_torus]
+
+// Milliseconds of `work` on the backend: CUDA events around it on the GPU, wall time on the
+// CPU.
+template <class Work> double time_ms(Backend backend, Work&& work) {
+  if (backend == Backend::gpu) {
+    CudaEvent start, stop;
+    start.record();
+    work();
+    stop.record();
+    stop.synchronize();
+    return stop.milliseconds_since(start);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Chapter 06's shaded frame through `bvh` (chapter 07's renderer); its time.
+double render_frame(Backend backend, const ch06::ShadedScene& scene, const ch07::Bvh& bvh,
+                    Extent extent, Image& image) {
+  const unsigned features = ch06::features_used(scene, true, true);
+  const ch03::Camera<float> camera = ch03::make_camera<float>(moving_scene_camera(), extent);
+  image = Image(extent.width, extent.height);
+  if (backend == Backend::cpu)
+    return time_ms(backend, [&] {
+      ch07::render_bvh_shaded(backend, features,
+                              ch07::with_bvh(ch06::host_view(scene, features), bvh.view()),
+                              camera, extent, image.pixels.data());
+    });
+  const ch06::DeviceShadedScene d_scene(scene, features);
+  const ch07::DeviceBvh d_bvh(bvh);
+  DeviceBuffer<Rgba8> d_pixels(image.pixels.size());
+  const double ms = time_ms(backend, [&] {
+    ch07::render_bvh_shaded(backend, features, ch07::with_bvh(d_scene.view(), d_bvh.view()),
+                            camera, extent, d_pixels.data());
+  });
+  d_pixels.download(image.pixels);
+  return ms;
+}
+
+} // namespace
+
+ch05::ObjMesh moving_scene_at(double time, int detail) {
+  if (detail < 8 || detail > 4096)
+    throw InputError("--detail " + std::to_string(detail) + ": the torus takes 8 to 4096");
+  ch05::ObjMesh scene;
+  scene.geometry = rippling_torus(time, detail);
+  scene.material_ids.assign(scene.geometry.triangles.size(), 0);
+  for (int k = 0; k < 4; ++k) { // the spheres: rigid motion, each on its own orbit
+    const double phase = time * (0.6 + 0.15 * k) + k * k_pi / 2.0;
+    const Vec3d centre{3.4 * std::cos(phase), 0.9 * std::sin(2.0 * phase),
+                       3.4 * std::sin(phase)};
+    const ch04::Mesh sphere = ch04::make_icosphere(3, centre, 0.45);
+    ch04::append_mesh(scene.geometry, sphere);
+    scene.material_ids.insert(scene.material_ids.end(), sphere.triangles.size(), 1 + k);
+  }
+  const ch04::Mesh floor = ch04::make_box({-6.0, -1.9, -6.0}, {6.0, -1.6, 6.0}, 4);
+  ch04::append_mesh(scene.geometry, floor);
+  scene.material_ids.insert(scene.material_ids.end(), floor.triangles.size(), 5);
+  scene.object_count = 6;
+  return scene;
+}
+
+ch03::CameraSpec moving_scene_camera() {
+  ch03::CameraSpec camera;
+  camera.eye = {0.0, 5.0, 9.5};
+  camera.target = {0.0, -0.3, 0.0};
+  camera.fov_degrees = 45.0;
+  return camera;
+}
+
+const char* to_string(Update update) { return update == Update::rebuild ? "rebuild" : "refit"; }
+
+Update parse_update(const std::string& name) {
+  if (name == "rebuild") return Update::rebuild;
+  if (name == "refit") return Update::refit;
+  throw UsageError("--update " + name + ": rebuild or refit");
+}
+
+// [listing:frame_loop]
+AnimationResult run_animation(const AnimationOptions& options) {
+  AnimationResult result;
+  result.frames.resize(options.updates.size());
+  std::vector<std::optional<ch07::Bvh>> trees(options.updates.size());
+  for (int frame = 0; frame < options.frames; ++frame) {
+    const ch06::ShadedScene scene = ch06::scene_from_obj(
+        moving_scene_at(frame * options.seconds_per_frame, options.detail), {});
+    result.triangles = static_cast<long long>(scene.mesh.triangles.size());
+    for (std::size_t u = 0; u < options.updates.size(); ++u) {
+      std::optional<ch07::Bvh>& tree = trees[u];
+      FrameFigures figures;
+      if (!tree || options.updates[u] == Update::rebuild) {
+        tree = build_tree(options.builder, options.backend, scene.mesh).bvh;
+        figures.tree_ms = tree->stats.build_ms;
+      } else {
+        figures.tree_ms = refit_bvh(options.backend, *tree, scene.mesh);
+      }
+      figures.sah_cost = tree->stats.sah_cost;
+      figures.trace_ms =
+          render_frame(options.backend, scene, *tree, options.extent, result.last_frame);
+      result.frames[u].push_back(figures);
+    }
+  }
+  return result;
+}
+// [/listing:frame_loop]
+
+std::string animation_csv(const AnimationOptions& options, const AnimationResult& result) {
+  std::ostringstream out;
+  out << "frame";
+  for (const Update u : options.updates)
+    out << "," << to_string(u) << "_tree_ms," << to_string(u) << "_trace_ms," << to_string(u)
+        << "_sah_cost";
+  out << "\n";
+  for (int frame = 0; frame < options.frames; ++frame) {
+    out << frame;
+    for (const std::vector<FrameFigures>& update : result.frames) {
+      const FrameFigures& f = update[frame];
+      out << "," << f.tree_ms << "," << f.trace_ms << "," << f.sah_cost;
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+} // namespace rt::ch10

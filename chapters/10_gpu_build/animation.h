@@ -1,0 +1,63 @@
+// Chapter 10: scenes that move, and what keeping their tree up to date costs. A torus whose
+// surface ripples (every vertex moves every frame) and spheres that orbit it, over a floor;
+// each frame either builds its tree again or refits last frame's, then renders chapter 06's
+// shaded image through it. Rebuilding costs a build per frame; refitting costs less, but the
+// boxes of a refitted tree grow apart from the geometry they were made for, and every ray pays
+// for it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "builders.h"
+#include "camera_spec.h"
+#include "obj_loader.h"
+#include "rt/backend.h"
+#include "rt/image.h"
+#include "rt/launch.h"
+
+namespace rt::ch10 {
+
+// The scene at `time` (seconds): the rippling torus of detail^2 triangles (detail segments
+// around, detail / 2 across, two triangles each), four orbiting icospheres and the floor.
+// Every time gives the same triangles in the same order, only the vertices move. Throws
+// InputError for a detail outside 8..4096.
+ch05::ObjMesh moving_scene_at(double time, int detail);
+
+// A camera that sees the whole animation.
+ch03::CameraSpec moving_scene_camera();
+
+// How the tree follows the motion: built again every frame, or built once and refitted.
+enum class Update { rebuild, refit };
+const char* to_string(Update update);
+Update parse_update(const std::string& name); // "rebuild" or "refit"; UsageError otherwise
+
+struct AnimationOptions {
+  Backend backend = Backend::cpu; // resolved
+  Builder builder = Builder::lbvh;
+  std::vector<Update> updates{Update::rebuild, Update::refit};
+  int frames = 60;
+  double seconds_per_frame = 1.0 / 30.0;
+  int detail = 316; // about 100k triangles in the torus
+  Extent extent{1280, 720};
+};
+
+// One frame of one update: the tree's time (build or refit), the shaded frame's, and the tree's
+// SAH cost.
+struct FrameFigures {
+  double tree_ms = 0, trace_ms = 0, sah_cost = 0;
+};
+
+struct AnimationResult {
+  std::vector<std::vector<FrameFigures>> frames; // per update of AnimationOptions::updates
+  long long triangles = 0;
+  Image last_frame; // the last update's last frame
+};
+
+AnimationResult run_animation(const AnimationOptions& options);
+
+// The figures as CSV, one line per frame: frame, then tree ms, trace ms and SAH cost of each
+// update, in the options' order.
+std::string animation_csv(const AnimationOptions& options, const AnimationResult& result);
+
+} // namespace rt::ch10

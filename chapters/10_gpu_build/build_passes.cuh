@@ -1,0 +1,222 @@
+// Chapter 10: the passes both of the chapter's builders share: triangle boxes, the centroids'
+// bounds, Morton codes and the sort that puts the triangles in Morton order, and at the end the
+// triangle copies in leaf order and the boxes from the bottom up. Included by the .cu files of
+// the builders only (the GPU side needs nvcc).
+#pragma once
+
+#include <algorithm>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_reduce.cuh>
+#include <cub/device/device_scan.cuh>
+
+#include "bvh.h"
+#include "mesh_gen.h"
+#include "morton.h"
+#include "parallel.h"
+#include "refit.h"
+#include "triangles.h"
+
+namespace rt::ch10::passes {
+
+using ch04::IndexedTriangle;
+using ch04::MeshView;
+
+// The union of two boxes: what the reduction to the centroids' bounds joins.
+struct JoinBoxes {
+  RT_HD Aabb operator()(Aabb a, const Aabb& b) const {
+    a.grow(b);
+    return a;
+  }
+};
+
+// The mesh where the backend reads it.
+struct MeshArrays {
+  Array<Vec3f> vertices;
+  Array<IndexedTriangle> triangles;
+  MeshArrays(Backend backend, const ch04::Mesh& mesh)
+      : vertices(backend, std::span<const Vec3f>(mesh.vertices)),
+        triangles(backend, std::span<const IndexedTriangle>(mesh.triangles)) {}
+  MeshView view() {
+    return {vertices.data(), triangles.data(), static_cast<int>(triangles.size())};
+  }
+};
+
+// Pass 1: each triangle's box, and its centroid as a box of its own for the reduction.
+struct BoxTriangles {
+  MeshView mesh;
+  Aabb* boxes;
+  Aabb* centroids;
+  RT_HD void operator()(int i) const {
+    const Aabb box = triangle_box(mesh.triangle(i));
+    boxes[i] = box;
+    Aabb centroid;
+    centroid.grow(box_centroid(box));
+    centroids[i] = centroid;
+  }
+};
+
+// Pass 2: each triangle's Morton code, and its number beside it for the sort.
+template <class Code> struct EncodeTriangles {
+  const Aabb* boxes;
+  const Aabb* centroid_bounds;
+  Code* codes;
+  int* ids;
+  RT_HD void operator()(int i) const {
+    codes[i] = morton_code<Code>(boxes[i], *centroid_bounds);
+    ids[i] = i;
+  }
+};
+
+// Sets a flag that many threads may set at once.
+RT_HD inline void mark(int* flag) {
+#if RT_ON_DEVICE
+  *flag = 1;
+#else
+  __atomic_store_n(flag, 1, __ATOMIC_RELAXED);
+#endif
+}
+
+// The triangle copies in leaf order.
+struct GatherTriangles {
+  MeshView mesh;
+  const int* ids;
+  TriangleF* triangles;
+  RT_HD void operator()(int k) const { triangles[k] = mesh.triangle(ids[k]); }
+};
+
+struct RefitNodes {
+  RefitView tree;
+  RT_HD void operator()(int i) const { refit_node(tree, i); }
+};
+
+// Scratch memory of CUB's reduce and sort, sized before the clock starts.
+template <class Code> inline std::size_t cub_scratch_bytes(int n) {
+  std::size_t reduce = 0, sort = 0;
+  RT_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, reduce, static_cast<Aabb*>(nullptr),
+                                          static_cast<Aabb*>(nullptr), n, JoinBoxes{}, Aabb{}));
+  RT_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(
+      nullptr, sort, static_cast<Code*>(nullptr), static_cast<Code*>(nullptr),
+      static_cast<int*>(nullptr), static_cast<int*>(nullptr), n));
+  return std::max<std::size_t>({reduce, sort, 1});
+}
+
+inline void reduce_bounds(Backend backend, Array<Aabb>& per_triangle, Array<Aabb>& out,
+                          Array<unsigned char>& scratch) {
+  const int n = static_cast<int>(per_triangle.size());
+  if (backend == Backend::cpu) {
+    Aabb all;
+    for (int i = 0; i < n; ++i) all = JoinBoxes{}(all, per_triangle.data()[i]);
+    out.data()[0] = all;
+    return;
+  }
+  std::size_t bytes = scratch.size();
+  RT_CUDA_CHECK(cub::DeviceReduce::Reduce(scratch.data(), bytes, per_triangle.data(),
+                                          out.data(), n, JoinBoxes{}, Aabb{}));
+}
+
+// [listing:sort_codes]
+// Codes and triangle numbers sorted by code. Both sorts are stable and the numbers start in
+// order, so equal codes keep their triangles in number order on both backends.
+template <class Code>
+inline void sort_by_code(Backend backend, Array<Code>& codes, Array<int>& ids,
+                         Array<Code>& codes_out, Array<int>& ids_out,
+                         Array<unsigned char>& scratch) {
+  const int n = static_cast<int>(codes.size());
+  if (backend == Backend::cpu) {
+    std::vector<std::pair<Code, int>> pairs(n);
+    for (int i = 0; i < n; ++i) pairs[i] = {codes.data()[i], ids.data()[i]};
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (int i = 0; i < n; ++i) std::tie(codes_out.data()[i], ids_out.data()[i]) = pairs[i];
+    return;
+  }
+  constexpr int code_bits = 3 * CodeTraits<Code>::bits_per_axis; // the bits above are zero
+  std::size_t bytes = scratch.size();
+  RT_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(scratch.data(), bytes, codes.data(),
+                                                codes_out.data(), ids.data(), ids_out.data(), n,
+                                                0, code_bits));
+}
+// [/listing:sort_codes]
+
+// The boxes of a laid-out tree, from the bottom up (refit.h). `arrivals` holds a counter per
+// node; made by the caller before its clock starts, so the pass times kernels only.
+inline void box_bottom_up(Backend backend, Array<BvhNode>& nodes, const Array<int>& parents,
+                          const Array<TriangleF>& triangles, Array<unsigned>& arrivals) {
+  arrivals.fill_bytes(0);
+  for_each_index(backend, static_cast<int>(nodes.size()),
+                 RefitNodes{{nodes.data(), parents.data(), arrivals.data(), triangles.data()}});
+}
+
+// A mesh of one triangle: chapter 07's root whose child 0 is the whole mesh's leaf.
+inline ch07::Bvh single_leaf_tree(const ch04::Mesh& mesh) {
+  ch07::Bvh bvh;
+  bvh.triangles = {mesh.triangle(0)};
+  bvh.triangle_ids = {0};
+  bvh.bounds = triangle_box(bvh.triangles[0]);
+  BvhNode root;
+  root.box[0] = bvh.bounds;
+  root.first[0] = 0;
+  root.count[0] = 1;
+  root.first[1] = -1;
+  root.count[1] = 0;
+  bvh.nodes = {root};
+  return bvh;
+}
+
+// The tree's bounds: the union of the root's two boxes, in that order. A reduction over the
+// triangles' boxes would not do: min and max of +0 and -0 return whichever comes first, so a
+// reduction in another order may give the other zero, where the bottom-up pass joins its boxes
+// in one order on every backend. (The centroids' bounds may differ so; their cells do not.)
+inline Aabb root_bounds(const ch07::Bvh& bvh) {
+  Aabb box = bvh.nodes[0].box[0];
+  box.grow(bvh.nodes[0].box[1]);
+  return box;
+}
+
+// Device memory a build of n triangles needs, roughly, per triangle: the mesh, boxes and
+// centroids, codes and numbers twice over, the Karras nodes or PLOC's clusters and the tree.
+inline std::size_t device_bytes_per_triangle() {
+  return 3 * sizeof(Vec3f) + sizeof(IndexedTriangle) + 3 * sizeof(Aabb) +
+         4 * sizeof(std::uint64_t) + 8 * sizeof(int) + 4 * sizeof(int) + sizeof(BvhNode) +
+         sizeof(TriangleF) + 2 * sizeof(unsigned) + 64;
+}
+
+// [listing:morton_order]
+// The triangles in Morton order: the first passes of every builder of the chapter. The arrays
+// are allocated when it is made, the passes run by sort(), so a clock started in between times
+// kernels only.
+template <class Code> struct MortonOrder {
+  int n;
+  MeshArrays mesh;
+  Array<Aabb> boxes;
+  Array<Aabb> centroids, centroid_bounds;
+  Array<Code> codes, sorted_codes;
+  Array<int> ids, sorted_ids;
+  Array<unsigned char> scratch;
+
+  MortonOrder(Backend backend, const ch04::Mesh& m)
+      : n(static_cast<int>(m.triangles.size())), mesh(backend, m), boxes(backend, n),
+        centroids(backend, n), centroid_bounds(backend, 1), codes(backend, n),
+        sorted_codes(backend, n), ids(backend, n), sorted_ids(backend, n),
+        scratch(backend, backend == Backend::gpu ? cub_scratch_bytes<Code>(n) : 0),
+        backend_(backend) {}
+
+  void sort() {
+    for_each_index(backend_, n, BoxTriangles{mesh.view(), boxes.data(), centroids.data()});
+    reduce_bounds(backend_, centroids, centroid_bounds, scratch);
+    for_each_index(
+        backend_, n,
+        EncodeTriangles<Code>{boxes.data(), centroid_bounds.data(), codes.data(), ids.data()});
+    sort_by_code(backend_, codes, ids, sorted_codes, sorted_ids, scratch);
+  }
+
+private:
+  Backend backend_;
+};
+// [/listing:morton_order]
+
+} // namespace rt::ch10::passes

@@ -1,0 +1,115 @@
+// Chapter 10: the builders as tracers. See builders.h.
+#include "builders.h"
+
+#include <sstream>
+
+#include "bvh_build.h"
+#include "collapse.h"
+#include "gpu_build.h"
+#include "rt/error.h"
+#include "wide_tracers.h"
+
+namespace rt::ch10 {
+namespace {
+
+struct BuilderInfo {
+  Builder builder;
+  const char* name;
+  const char* option;
+};
+
+constexpr BuilderInfo k_info[] = {
+    {Builder::cpu_sah, "CPU SAH (ch07)", "cpu_sah"},
+    {Builder::lbvh, "LBVH", "lbvh"},
+    {Builder::lbvh63, "LBVH 63-bit", "lbvh63"},
+    {Builder::ploc, "PLOC", "ploc"},
+};
+
+const BuilderInfo& info(Builder builder) {
+  for (const BuilderInfo& i : k_info)
+    if (i.builder == builder) return i;
+  throw Error("unknown builder");
+}
+
+} // namespace
+
+const char* to_string(Builder builder) { return info(builder).name; }
+
+Builder parse_builder(std::string_view name) {
+  std::string names;
+  for (const BuilderInfo& i : k_info) {
+    if (name == i.option) return i.builder;
+    names += std::string(names.empty() ? "" : ", ") + i.option;
+  }
+  throw UsageError("--builder " + std::string(name) + ": the builders are " + names);
+}
+
+BuiltTree build_tree(Builder builder, Backend backend, const ch04::Mesh& mesh) {
+  switch (builder) {
+  case Builder::cpu_sah: {
+    ch07::BuildOptions options;
+    options.max_leaf_size = 1; // as the others, and as chapter 09's SAH collapse wants it
+    return {ch07::build_bvh(mesh, options), Backend::cpu, ""};
+  }
+  case Builder::lbvh:
+  case Builder::lbvh63: {
+    GpuBuild build = build_lbvh(
+        backend, mesh, builder == Builder::lbvh ? CodeWidth::bits30 : CodeWidth::bits63);
+    return {std::move(build.bvh), backend, std::move(build.note)};
+  }
+  case Builder::ploc: {
+    GpuBuild build = build_ploc(backend, mesh);
+    return {std::move(build.bvh), backend, std::move(build.note)};
+  }
+  }
+  throw Error("unknown builder");
+}
+
+ReportRow build_row(const std::string& scene, Builder builder, const BuiltTree& tree) {
+  const ch07::BuildStats& s = tree.bvh.stats;
+  const double triangles = double(tree.bvh.triangles.size());
+  return {scene + ", build " + to_string(builder),
+          to_string(tree.backend),
+          s.build_ms,
+          s.build_ms > 0 ? triangles / (s.build_ms * 1e3) : 0.0,
+          group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) + ", SAH cost " +
+              format_fixed(s.sah_cost, 1) + " (Mtriangles/s)" +
+              (tree.note.empty() ? "" : "; " + tree.note),
+          {{"triangles", triangles},
+           {"nodes", double(s.nodes)},
+           {"depth", double(s.depth)},
+           {"sah_cost", s.sah_cost}}};
+}
+
+ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build) {
+  return [builders, on_build](const ch07::TracerScene& scene) {
+    std::vector<ch07::Tracer> out;
+    for (const Builder builder : builders) {
+      BuiltTree tree = build_tree(builder, scene.backend, scene.mesh);
+      if (on_build) on_build(scene.name, builder, tree);
+      const ch09::WideLayout layout = ch09::collapse(tree.bvh, 4, ch09::Collapse::sah);
+      ch07::Tracer binary = ch07::bvh_tracer(to_string(builder), std::move(tree.bvh), scene);
+      binary.rule = ch07::HitRule::ties_allowed; // another tree: exact ties may go either way
+      out.push_back(std::move(binary));
+      out.push_back(ch09::wide4_tracer(std::string(to_string(builder)) + " 4-wide",
+                                       ch09::pack_wide<4, ch09::PackedTriangles>(layout),
+                                       scene));
+    }
+    return out;
+  };
+}
+
+std::string build_table(const std::vector<std::pair<Builder, BuiltTree>>& builds) {
+  std::ostringstream out;
+  out << "\n| builder | built on | build ms | SAH cost | depth | nodes |\n"
+      << "|---|---|---:|---:|---:|---:|\n";
+  for (const auto& [builder, tree] : builds) {
+    const ch07::BuildStats& s = tree.bvh.stats;
+    out << "| " << to_string(builder) << " | " << to_string(tree.backend) << " | "
+        << format_fixed(s.build_ms, 2) << " | " << format_fixed(s.sah_cost, 1) << " | "
+        << s.depth << " | " << group_digits(s.nodes) << " |\n";
+  }
+  return out.str();
+}
+
+} // namespace rt::ch10

@@ -1,0 +1,65 @@
+// Chapter 10: the chapter's builders side by side. Each builds a tree in chapter 07's layout
+// for a scene; chapter 07's runner then measures each tree twice, as it is (chapter 07's
+// binary traversal) and collapsed to four children by chapter 09 (the course's fastest
+// traversal on an H200), so a build's time can be weighed against the rays it speeds up.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "bvh.h"
+#include "mesh_gen.h"
+#include "rt/backend.h"
+#include "rt/report.h"
+#include "runner.h"
+#include "tracer.h"
+
+namespace rt::ch10 {
+
+// [listing:builders]
+enum class Builder {
+  cpu_sah, // chapter 07's binned SAH build, leaves of one, on one CPU core: the quality mark
+  lbvh,    // Karras's LBVH from 30-bit Morton codes
+  lbvh63,  // the same from 63-bit codes
+  ploc,    // PLOC: clusters merged with their nearest neighbours, from 30-bit Morton order
+};
+// [/listing:builders]
+
+inline constexpr Builder k_all_builders[] = {Builder::cpu_sah, Builder::lbvh, Builder::lbvh63,
+                                             Builder::ploc};
+
+// The name in report rows ("CPU SAH (ch07)", "LBVH", ...).
+const char* to_string(Builder builder);
+// The builder of a name on the command line (cpu_sah, lbvh, lbvh63, ploc); throws UsageError
+// naming them for an unknown one.
+Builder parse_builder(std::string_view name);
+
+// A tree and how it was built.
+struct BuiltTree {
+  ch07::Bvh bvh;
+  Backend backend = Backend::cpu; // where it was built: chapter 07's build is always the CPU
+  std::string note;               // what the build had to do differently, if anything
+};
+
+// Builds `mesh`'s tree with `builder`, the parallel ones on `backend` (resolved). The build
+// time is bvh.stats.build_ms.
+BuiltTree build_tree(Builder builder, Backend backend, const ch04::Mesh& mesh);
+
+// The report row of a build: time, Mtriangles/s, nodes, depth, SAH cost, and the note.
+ReportRow build_row(const std::string& scene, Builder builder, const BuiltTree& tree);
+
+// Called once per scene and builder with the tree built.
+using BuildSink =
+    std::function<void(const std::string& scene, Builder builder, const BuiltTree& tree)>;
+
+// For each scene, the tree of each of `builders` as two tracers: "<builder>" (chapter 07's
+// traversal) and "<builder> 4-wide" (chapter 09's SAH collapse to four children). Their hits
+// match chapter 07's up to exact ties.
+ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build = {});
+
+// The builds as a Markdown table: builder, where, ms, SAH cost, depth, nodes.
+std::string build_table(const std::vector<std::pair<Builder, BuiltTree>>& builds);
+
+} // namespace rt::ch10

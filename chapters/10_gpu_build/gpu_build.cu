@@ -1,0 +1,276 @@
+// Chapter 10: the LBVH and the refit, pass by pass. See gpu_build.h. Every pass is a functor
+// with an RT_HD call operator run by for_each_index, on the GPU or on CPU threads; the sort is
+// CUB's radix sort on the GPU and std::stable_sort on the CPU, both stable, so both backends
+// give the same tree bit for bit.
+#include "gpu_build.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <utility>
+
+#include "build_passes.cuh"
+#include "bvh_build.h"
+#include "karras.h"
+#include "model_render.h"
+#include "rt/error.h"
+
+namespace rt::ch10 {
+
+const char* to_string(CodeWidth width) {
+  return width == CodeWidth::bits30 ? "30-bit" : "63-bit";
+}
+
+namespace {
+
+using namespace passes;
+
+// Pass 3: interior node i of the Karras tree, and its children's parent links.
+template <class Code> struct BuildHierarchy {
+  const Code* codes;
+  int n;
+  KarrasNode* nodes;
+  int* parents; // of the interior nodes: 2 * parent + child slot; -1 for the root
+  RT_HD void operator()(int i) const {
+    const KarrasNode node = karras_node(codes, n, i);
+    nodes[i] = node;
+    for (int c = 0; c < 2; ++c)
+      if (!node.is_leaf[c]) parents[node.child[c]] = 2 * i + c;
+    if (i == 0) parents[0] = -1;
+  }
+};
+
+// [listing:depth_first_index]
+// Pass 4: where interior node i goes in chapter 07's depth-first array. Before a node, a
+// depth-first walk visits its ancestors and the whole subtrees to the left of its range. Those
+// subtrees cover leaves 0 .. first-1; k subtrees covering `first` leaves hold first - k
+// interior nodes, and k is the number of ancestors the node lies right of. So the index is
+// first + (the number of ancestors it lies left of), counted on the way up. The walk stops at
+// chapter 07's depth bound: a node deeper than that marks the tree too deep for the traversal
+// stack, and the tree is not laid out.
+struct PlaceDepthFirst {
+  const KarrasNode* nodes;
+  const int* parents;
+  int* index;
+  int* too_deep;
+  RT_HD void operator()(int i) const {
+    int left_turns = 0, depth = 0;
+    for (int x = i; x != 0; x = parents[x] >> 1) {
+      if (++depth > ch07::k_max_bvh_depth - 1) {
+        mark(too_deep);
+        return;
+      }
+      left_turns += (parents[x] & 1) == 0;
+    }
+    index[i] = nodes[i].first + left_turns;
+  }
+};
+// [/listing:depth_first_index]
+
+// Pass 5: the node in chapter 07's layout, boxes still to come; a leaf child names its one
+// triangle, which sits at the leaf's own position in the sorted order.
+struct WriteLayout {
+  const KarrasNode* nodes;
+  const int* index;
+  BvhNode* out;
+  int* out_parents;
+  RT_HD void operator()(int i) const {
+    const KarrasNode& node = nodes[i];
+    const int at = index[i];
+    BvhNode written;
+    for (int c = 0; c < 2; ++c) {
+      written.first[c] = node.is_leaf[c] ? node.child[c] : index[node.child[c]];
+      written.count[c] = node.is_leaf[c] ? 1 : 0;
+      if (!node.is_leaf[c]) out_parents[written.first[c]] = 2 * at + c;
+    }
+    out[at] = written;
+    if (i == 0) out_parents[0] = -1;
+  }
+};
+
+// Parent links of a tree in chapter 07's layout (the refit of a tree this chapter did not
+// build).
+struct LinkParents {
+  const BvhNode* nodes;
+  int* parents;
+  RT_HD void operator()(int i) const {
+    for (int c = 0; c < 2; ++c)
+      if (!nodes[i].is_leaf(c) && nodes[i].first[c] >= 0)
+        parents[nodes[i].first[c]] = 2 * i + c;
+    if (i == 0) parents[0] = -1;
+  }
+};
+
+// The whole LBVH from codes of type Code; nothing when the tree is deeper than the traversal
+// stack allows.
+template <class Code>
+std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh) {
+  const int n = static_cast<int>(mesh.triangles.size());
+  MortonOrder<Code> order(backend, mesh);
+  Array<int> parents(backend, n - 1), index(backend, n - 1), out_parents(backend, n - 1),
+      too_deep(backend, 1);
+  Array<KarrasNode> karras(backend, n - 1);
+  Array<BvhNode> nodes(backend, n - 1);
+  Array<TriangleF> triangles(backend, n);
+  Array<unsigned> arrivals(backend, n - 1);
+  too_deep.fill_bytes(0);
+
+  PassClock clock(backend);
+  order.sort();
+  for_each_index(
+      backend, n - 1,
+      BuildHierarchy<Code>{order.sorted_codes.data(), n, karras.data(), parents.data()});
+  for_each_index(backend, n - 1,
+                 PlaceDepthFirst{karras.data(), parents.data(), index.data(), too_deep.data()});
+  if (too_deep.to_host()[0] != 0) return std::nullopt;
+  for_each_index(backend, n - 1,
+                 WriteLayout{karras.data(), index.data(), nodes.data(), out_parents.data()});
+  for_each_index(backend, n,
+                 GatherTriangles{order.mesh.view(), order.sorted_ids.data(), triangles.data()});
+  box_bottom_up(backend, nodes, out_parents, triangles, arrivals);
+  GpuBuild build;
+  build.build_ms = clock.milliseconds();
+  build.codes = sizeof(Code) == 4 ? CodeWidth::bits30 : CodeWidth::bits63;
+  build.bvh.nodes = nodes.to_host();
+  build.bvh.triangles = triangles.to_host();
+  build.bvh.triangle_ids = order.sorted_ids.to_host();
+  build.bvh.bounds = root_bounds(build.bvh);
+  return build;
+}
+
+} // namespace
+
+void check_build_input(const ch04::Mesh& mesh) {
+  const auto triangle_count = static_cast<long long>(mesh.triangles.size());
+  if (triangle_count > ch07::k_max_bvh_triangles)
+    throw InputError(std::to_string(triangle_count) + " triangles: a BVH holds at most " +
+                     std::to_string(ch07::k_max_bvh_triangles));
+  const auto vertex_count = static_cast<long long>(mesh.vertices.size());
+  for (long long i = 0; i < triangle_count; ++i) {
+    const IndexedTriangle& t = mesh.triangles[i];
+    for (const int v : {t.v0, t.v1, t.v2}) {
+      if (v < 0 || v >= vertex_count)
+        throw InputError("triangle " + std::to_string(i) + ": vertex index " +
+                         std::to_string(v) + " is out of range (the mesh has " +
+                         std::to_string(vertex_count) + " vertices)");
+      const Vec3f p = mesh.vertices[v];
+      if (!(ch04::is_finite(p.x) && ch04::is_finite(p.y) && ch04::is_finite(p.z))) {
+        char line[200];
+        std::snprintf(line, sizeof line, "triangle %lld: vertex %d is not finite (%g, %g, %g)",
+                      i, v, static_cast<double>(p.x), static_cast<double>(p.y),
+                      static_cast<double>(p.z));
+        throw InputError(line);
+      }
+    }
+  }
+}
+
+// [listing:depth_proof]
+// Why a tree of 30-bit codes always fits chapter 07's stack. Karras's tree is a binary radix
+// tree over the keys (code, index): an interior node's children share strictly longer
+// prefixes than the node itself, so the prefix length delta grows by at least one per level
+// down. The deepest interior node of a radix tree therefore sits at most (the number of values
+// delta can take for an interior node) - 1 below the root. For 30-bit codes in a 32-bit word,
+// delta of two different codes is 2..31 (the top two bits are always zero): 30 values. Two
+// equal codes give 32 + the common prefix of two leaf numbers below n <= 2^28, which is 4..31:
+// 28 values. 58 values in all: no interior node deeper than 57 < k_max_bvh_depth - 1 = 63.
+// The 63-bit codes give 63 + 28 = 91 possible values, so their trees can be too deep (points
+// spaced by powers of two along the axes, then many triangles at one point, make one): the
+// walk that places the nodes sees it, and the tree is built again from 30-bit codes.
+static_assert(30 + 28 - 1 <= ch07::k_max_bvh_depth - 1);
+static_assert(ch07::k_max_bvh_triangles == 1LL << 28);
+// [/listing:depth_proof]
+
+GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes) {
+  check_build_input(mesh);
+  const int n = static_cast<int>(mesh.triangles.size());
+  if (backend == Backend::gpu)
+    ch05::check_device_memory(static_cast<std::size_t>(n) * device_bytes_per_triangle(),
+                              "the LBVH of " + std::to_string(n) + " triangles");
+  GpuBuild build;
+  if (n == 1) build.bvh = single_leaf_tree(mesh);
+  if (n >= 2) {
+    std::optional<GpuBuild> built = codes == CodeWidth::bits63
+                                        ? build_from_codes<std::uint64_t>(backend, mesh)
+                                        : build_from_codes<std::uint32_t>(backend, mesh);
+    if (!built) {
+      built = build_from_codes<std::uint32_t>(backend, mesh);
+      if (!built) throw Error("an LBVH of 30-bit codes came out too deep: see the proof");
+      built->note = "63-bit codes gave a tree deeper than the traversal stack; built from "
+                    "30-bit codes";
+    }
+    build = std::move(*built);
+  }
+  build.bvh.options.method = ch07::SplitMethod::median; // a spatial median: Morton's bits
+  build.bvh.options.max_leaf_size = 1;
+  build.bvh.stats.build_ms = build.build_ms;
+  fill_stats(build.bvh);
+  return build;
+}
+
+double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {
+  check_build_input(mesh);
+  if (mesh.triangles.size() != bvh.triangle_ids.size())
+    throw InputError("refit: the mesh has " + std::to_string(mesh.triangles.size()) +
+                     " triangles, the tree " + std::to_string(bvh.triangle_ids.size()));
+  const int count = static_cast<int>(bvh.nodes.size());
+  if (count == 0) return 0.0;
+  MeshArrays d_mesh(backend, mesh);
+  Array<BvhNode> nodes(backend, std::span<const BvhNode>(bvh.nodes));
+  Array<int> ids(backend, std::span<const int>(bvh.triangle_ids)), parents(backend, count);
+  Array<TriangleF> triangles(backend, mesh.triangles.size());
+  Array<unsigned> arrivals(backend, count);
+  PassClock clock(backend);
+  for_each_index(backend, static_cast<int>(mesh.triangles.size()),
+                 GatherTriangles{d_mesh.view(), ids.data(), triangles.data()});
+  const bool single_leaf = count == 1 && bvh.nodes[0].count[1] == 0;
+  if (!single_leaf) {
+    for_each_index(backend, count, LinkParents{nodes.data(), parents.data()});
+    box_bottom_up(backend, nodes, parents, triangles, arrivals);
+  }
+  const double ms = clock.milliseconds();
+  bvh.triangles = triangles.to_host();
+  bvh.nodes = nodes.to_host();
+  if (single_leaf) {
+    // One leaf under the root: its box is the whole mesh's (the other child stays empty).
+    Aabb all;
+    for (const TriangleF& t : bvh.triangles) all.grow(triangle_box(t));
+    bvh.nodes[0].box[0] = all;
+  }
+  bvh.bounds = root_bounds(bvh);
+  fill_stats(bvh);
+  return ms;
+}
+
+void fill_stats(ch07::Bvh& bvh) {
+  ch07::BuildStats stats;
+  stats.build_ms = bvh.stats.build_ms;
+  stats.leaf_sizes.assign(bvh.options.max_leaf_size + 1, 0);
+  std::vector<std::pair<int, int>> stack; // node, depth
+  if (!bvh.nodes.empty()) stack.push_back({0, 0});
+  while (!stack.empty()) {
+    const auto [i, depth] = stack.back();
+    stack.pop_back();
+    ++stats.nodes;
+    stats.depth = std::max(stats.depth, depth);
+    for (int c = 0; c < 2; ++c) {
+      const BvhNode& node = bvh.nodes[i];
+      if (node.is_leaf(c)) {
+        ++stats.leaves;
+        if (node.count[c] < static_cast<int>(stats.leaf_sizes.size()))
+          ++stats.leaf_sizes[node.count[c]];
+      } else if (node.first[c] > i) {
+        stack.push_back({node.first[c], depth + 1});
+      }
+    }
+  }
+  stats.sah_cost = ch07::sah_cost(bvh);
+  const auto n = static_cast<double>(bvh.triangle_ids.size());
+  if (n > 0)
+    stats.bytes_per_triangle = (static_cast<double>(bvh.nodes.size() * sizeof(BvhNode)) +
+                                n * static_cast<double>(sizeof(TriangleF) + sizeof(int))) /
+                               n;
+  bvh.stats = std::move(stats);
+}
+
+} // namespace rt::ch10

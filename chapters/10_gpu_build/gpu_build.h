@@ -1,0 +1,62 @@
+// Chapter 10: trees built in parallel, on the GPU or on CPU threads through the same RT_HD
+// passes: the LBVH (Morton codes, a sort, Karras's hierarchy, boxes from the bottom up) and the
+// refit of an existing tree to moved vertices. Both end in chapter 07's layout (bvh.h), so
+// chapter 07's checker, traversal and runner, and chapter 09's collapse, take them unchanged.
+#pragma once
+
+#include <string>
+
+#include "bvh.h"
+#include "mesh_gen.h"
+#include "morton.h"
+#include "rt/backend.h"
+
+namespace rt::ch10 {
+
+// A tree built by this chapter, with what the report says about its build.
+struct GpuBuild {
+  ch07::Bvh bvh;         // chapter 07's layout, depth first, stats filled
+  double build_ms = 0.0; // GPU: kernel time with CUDA events, the sort included; CPU: wall
+  CodeWidth codes = CodeWidth::bits30; // the codes the tree was built from
+  std::string note;                    // what the build had to do differently, if anything
+};
+
+// Throws rt::InputError, naming the triangle, for a vertex index out of range or a vertex that
+// is not finite (NaN would make the Morton code undefined), and for more than
+// ch07::k_max_bvh_triangles triangles. Every builder of the chapter calls it first.
+void check_build_input(const ch04::Mesh& mesh);
+
+// The LBVH of `mesh` on the resolved backend: one triangle per leaf, laid out depth first.
+// Both backends give the same tree bit for bit. A tree of 63-bit codes deeper than chapter 07's
+// traversal stack allows is built again from 30-bit codes, whose trees never are (gpu_build.cu
+// proves it); GpuBuild::note says so. Throws InputError as check_build_input does, and when the
+// GPU lacks the memory for the build.
+GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes);
+
+// PLOC's search radius: each cluster looks for its nearest neighbour among this many clusters
+// on either side of it in Morton order.
+inline constexpr int k_ploc_radius = 8;
+
+// PLOC (Meister & Bittner 2018) on the resolved backend: the triangles in 30-bit Morton order
+// are clusters; every cluster finds the neighbour within `radius` whose merged box has the
+// smallest surface area, pairs that chose each other merge, and the rounds go on until one
+// cluster is left. One triangle per leaf, laid out depth first; both backends give the same
+// tree bit for bit. A tree deeper than chapter 07's stack allows is replaced by the 30-bit
+// LBVH (GpuBuild::note says so). Throws InputError as build_lbvh does, and for a radius
+// outside 1..64.
+GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc_radius);
+
+// New boxes for the same tree after the mesh's vertices moved (same triangles, same vertex
+// count): the triangle copies are taken again from `mesh`, every box is recomputed from the
+// bottom up, and bounds and the SAH cost follow. Any tree in chapter 07's layout that passes
+// its checker for the mesh it was built from (the refit trusts its indices). Returns the
+// time taken, as build_ms is measured. Throws InputError as check_build_input does, and when
+// the mesh has another triangle count than the tree.
+double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh);
+
+// The report's figures for a tree in chapter 07's layout, filled from the tree itself: nodes,
+// leaves, depth, leaf sizes, SAH cost and bytes per triangle (chapter 07's stats, computed as
+// its build computes them).
+void fill_stats(ch07::Bvh& bvh);
+
+} // namespace rt::ch10

@@ -1,0 +1,199 @@
+// Chapter 10: trees built on the GPU, and scenes that move. By default it loads the course's
+// ~100k-triangle model (or any OBJ file with --scene), builds its tree with every builder
+// (chapter 07's SAH on the CPU, the LBVH of 30- and 63-bit codes, PLOC), reports each build
+// and traces the benchmark protocol's rays through each tree, binary and 4-wide, and renders
+// the shaded image through the LBVH. Other modes:
+//   --moving --frames N [--update U]  the moving scene, its tree rebuilt or refitted each frame
+//   --rays FILE --hits FILE           a ray file through --builder's tree, hits to a file
+//   --dump-hits FILE --ray-type T     the protocol's hits of one view through --builder's tree
+//   --benchmark [SCENE...]            every builder on the benchmark set (default) or the
+//   scenes
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "builders.h"
+#include "bvh_render.h"
+#include "bvh_trace.h"
+#include "camera_cli.h"
+#include "moving_program.h"
+#include "program.h"
+#include "query_modes.h"
+#include "rt/program_output.h"
+#include "runner.h"
+#include "shaded_render.h"
+#include "shaded_scene.h"
+
+namespace {
+
+using namespace rt;
+using namespace rt::ch10;
+
+struct ChapterOptions : ch03::ProgramOptions {
+  ch07::QueryOptions query;
+  std::optional<Builder> builder; // --builder: the one built (queries) or measured
+  bool moving = false;            // --moving
+  std::optional<Update> update;   // --update: one of them; both by default
+  MovingOptions animation;        // --detail, --animation-csv
+  bool skip_cpu = false;
+};
+
+// The builders measured: CPU SAH and --builder, or every one.
+std::vector<Builder> measured(const ChapterOptions& options) {
+  if (!options.builder || *options.builder == Builder::cpu_sah)
+    return {std::begin(k_all_builders), std::end(k_all_builders)};
+  return {Builder::cpu_sah, *options.builder};
+}
+
+// Each build as a row of `report`, and kept for the table printed after it.
+BuildSink keep_builds(Report& report, std::vector<std::pair<Builder, BuiltTree>>& builds) {
+  return [&report, &builds](const std::string& scene, Builder builder, const BuiltTree& tree) {
+    report.add_row(build_row(scene, builder, tree));
+    builds.push_back(
+        {builder, {ch07::Bvh{{}, {}, {}, {}, {}, tree.bvh.stats}, tree.backend, tree.note}});
+  };
+}
+
+int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
+  ch07::RunnerOptions runner;
+  runner.extent = options.size_given() ? options.common.extent() : Extent{1920, 1080};
+  runner.backend = backend;
+  runner.frames = options.common.frames;
+  runner.check_rays = 4096;
+  Report report("Chapter 10: every builder's tree on the benchmark protocol", "Mrays/s",
+                "chapter 07's hits up to exact ties; brute force on sampled rays");
+  ch07::add_runner_context(report, runner);
+  std::vector<std::pair<Builder, BuiltTree>> builds;
+  const std::vector<ch07::SceneResult> results = ch07::run_benchmark(
+      ch07::benchmark_scenes(options.query),
+      {builder_tracers(measured(options), keep_builds(report, builds))}, runner, report);
+  finish_report(report, options.common);
+  std::cout << ch07::tracer_tables(results, to_string(Builder::cpu_sah), runner,
+                                   describe_backend(backend), ch07::course_anchors(std::cout))
+            << build_table(builds);
+  for (const ch07::SceneResult& r : results)
+    if (r.problems > 0)
+      throw Error("a tree disagrees with chapter 07's hits beyond exact ties");
+  return 0;
+}
+
+int run(ChapterOptions& options) {
+  ch03::validate_camera(options.camera);
+  const Backend backend = resolve_backend(options.common.backend, std::cout);
+  if (options.query.benchmark) return run_benchmark_mode(options, backend);
+  if (options.moving) {
+    options.animation.animation.builder = options.builder.value_or(Builder::lbvh);
+    if (options.update) options.animation.animation.updates = {*options.update};
+    return run_moving_program(options, options.animation, backend);
+  }
+  if (options.query.query())
+    return ch07::run_query(options.query, options, backend, {},
+                           ch04::TriangleVariant::watertight,
+                           builder_tracers({options.builder.value_or(Builder::lbvh)}));
+
+  ch03::CameraSpec camera = options.camera;
+  const ch06::ShadedScene scene =
+      ch06::load_framed_obj(options.query.scene_path, camera, options.common.extent(),
+                            options.eye_given, options.target_given);
+  ch03::validate_camera(camera);
+  Report report = start_report(
+      "Chapter 10: trees built on the GPU", "Mrays/s",
+      "chapter 07's hits up to exact ties; float64 brute force (CPU) on sampled rays", backend);
+  const unsigned features = ch06::features_used(scene, true, true);
+  std::optional<ch07::Bvh> tree; // the image's: the LBVH, built for the first frame
+  std::optional<ch06::DeviceShadedScene> d_scene;
+  std::optional<ch07::DeviceBvh> d_tree;
+  ch07::RunnerOptions runner;
+  runner.extent = options.common.extent();
+  runner.backend = backend;
+  runner.frames = options.common.frames;
+  runner.reference_rays = 1024;
+  runner.count_work = true;
+  std::vector<std::pair<Builder, BuiltTree>> builds;
+  ch07::BackendRuns runs;
+  const ch03::ProgramParts parts{
+      .chapter = "ch10",
+      .window_title = "a tree built on the GPU",
+      .camera = camera,
+      .render =
+          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+            if (!tree) tree = build_tree(Builder::lbvh, b, scene.mesh).bvh;
+            if (b == Backend::gpu && !d_scene) {
+              d_scene.emplace(scene, features);
+              d_tree.emplace(*tree);
+            }
+            const ch07::BvhSceneView view =
+                d_scene ? ch07::with_bvh(d_scene->view(), d_tree->view())
+                        : ch07::with_bvh(ch06::host_view(scene, features), tree->view());
+            ch07::render_bvh_shaded(b, features, view, ch03::make_camera<float>(spec, extent),
+                                    extent, pixels);
+          },
+      .window_row =
+          [&](const ch03::WindowResult& shown) {
+            return ch03::window_fps_row("shaded frame, LBVH", backend, shown);
+          },
+      .measure =
+          [&](Report& rows) {
+            ch07::add_runner_context(rows, runner);
+            runs = ch07::run_scene_on_each(
+                report_backends(backend, options.skip_cpu), {options.query.scene_path},
+                {builder_tracers(measured(options), keep_builds(rows, builds))}, runner, rows);
+          },
+  };
+  const int code = ch03::run_window_or_headless(options, backend, parts, report);
+  if (!runs.first.empty())
+    std::cout << ch07::tracer_tables(runs.first, to_string(Builder::cpu_sah), runner,
+                                     describe_backend(backend), ch07::course_anchors(std::cout))
+              << build_table(builds);
+  if (runs.problems > 0)
+    throw Error("a tree disagrees with chapter 07's hits beyond exact ties");
+  return code;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Chapter 10: trees built on the GPU (LBVH, PLOC) against chapter 07's SAH "
+               "build, and a moving scene's tree rebuilt or refitted every frame",
+               "ch10_gpu_build"};
+  ChapterOptions options;
+  options.common.width = 1280;
+  options.common.height = 720;
+  options.common.output = "ch10_gpu_build.png";
+  options.query.scene_path = RT_ASSETS_DIR "/torus_knot_100k.obj.gz";
+  options.query.models_dir = RT_MODELS_DIR;
+  ch03::add_program_options(app, options);
+  ch07::add_query_options(app, options.query, "every builder's build and rays");
+  app.add_option_function<std::string>(
+         "--builder", [&](const std::string& text) { options.builder = parse_builder(text); },
+         "One builder: cpu_sah, lbvh, lbvh63 or ploc (the queries' and the moving scene's "
+         "tree; the measurements then compare it with cpu_sah alone)")
+      ->default_str("all (queries and --moving: lbvh)");
+  app.add_flag("--moving", options.moving,
+               "The moving scene: in the window, its tree updated for every frame drawn "
+               "(--update, default rebuild); headless, --frames frames (default 60) with the "
+               "tree rebuilt and refitted, each frame's figures printed");
+  app.add_option_function<std::string>(
+         "--update", [&](const std::string& text) { options.update = parse_update(text); },
+         "With --moving: rebuild or refit (the tree every frame)")
+      ->default_str("both");
+  app.add_option("--detail", options.animation.animation.detail,
+                 "With --moving: the torus's segments around (detail^2 triangles)")
+      ->check(CLI::Range(8, 4096))
+      ->capture_default_str();
+  app.add_option("--animation-csv", options.animation.csv_path,
+                 "With --moving: write each frame's tree ms, frame ms and SAH cost here");
+  app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
+  ch03::add_image_only_option(app, options);
+  return ch03::run_program_main(app, argc, argv, options, [&] {
+    ch07::check_query_options(options.query, app);
+    const bool moving_flags =
+        options.update || !options.animation.csv_path.empty() || app.count("--detail") > 0;
+    if (moving_flags && !options.moving)
+      throw UsageError("--update, --detail and --animation-csv go with --moving");
+    if (options.moving && (options.query.benchmark || options.query.query()))
+      throw UsageError("--moving runs alone: not with --benchmark, --rays or --dump-hits");
+    return run(options);
+  });
+}

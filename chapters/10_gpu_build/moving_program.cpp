@@ -1,0 +1,142 @@
+// Chapter 10: the program's --moving mode. See moving_program.h.
+#include "moving_program.h"
+
+#include <cstdio>
+#include <iostream>
+#include <optional>
+
+#include "bvh_render.h"
+#include "bvh_trace.h"
+#include "gpu_build.h"
+#include "rt/output_file.h"
+#include "rt/program_output.h"
+#include "shaded_render.h"
+#include "shaded_scene.h"
+
+namespace rt::ch10 {
+namespace {
+
+// Each frame's figures, one line per frame.
+void print_frames(const AnimationOptions& animation, const AnimationResult& result) {
+  for (int frame = 0; frame < animation.frames; ++frame) {
+    std::cout << "frame " << frame;
+    for (std::size_t u = 0; u < animation.updates.size(); ++u) {
+      const FrameFigures& f = result.frames[u][frame];
+      std::cout << (u == 0 ? ": " : "; ") << to_string(animation.updates[u]) << " "
+                << format_fixed(f.tree_ms, 2) << " ms + frame " << format_fixed(f.trace_ms, 2)
+                << " ms, SAH cost " << format_fixed(f.sah_cost, 1);
+    }
+    std::cout << "\n";
+  }
+}
+
+// One row per update: mean tree and frame ms, and how far the SAH cost moved.
+void add_rows(Report& report, const AnimationOptions& animation,
+              const AnimationResult& result) {
+  for (std::size_t u = 0; u < animation.updates.size(); ++u) {
+    const std::vector<FrameFigures>& frames = result.frames[u];
+    double tree = 0, trace = 0;
+    for (const FrameFigures& f : frames) tree += f.tree_ms, trace += f.trace_ms;
+    const double n = double(frames.size()), ms = (tree + trace) / n;
+    const double growth = frames.back().sah_cost / frames[0].sah_cost;
+    report.add_row(
+        {std::string(to_string(animation.builder)) + ", " + to_string(animation.updates[u]),
+         to_string(animation.backend),
+         ms,
+         double(animation.extent.pixel_count()) / (ms * 1e3),
+         format_fixed(tree / n, 2) + " ms tree + " + format_fixed(trace / n, 2) +
+             " ms frame; SAH cost x" + format_fixed(growth, 3) + " by the last frame",
+         {{"tree_ms", tree / n}, {"trace_ms", trace / n}, {"sah_growth", growth}}});
+  }
+}
+
+// The window's frames: each one a step of the animation, its tree updated as the first of the
+// options' updates says, and chapter 06's shaded frame through it.
+class WindowAnimation {
+public:
+  explicit WindowAnimation(const AnimationOptions& options) : options_(options) {}
+
+  void render(Backend backend, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+    const ch06::ShadedScene scene = ch06::scene_from_obj(
+        moving_scene_at(frame_++ * options_.seconds_per_frame, options_.detail), {});
+    if (!tree_ || options_.updates.front() == Update::rebuild) {
+      tree_ = build_tree(options_.builder, backend, scene.mesh).bvh;
+    } else {
+      refit_bvh(backend, *tree_, scene.mesh);
+    }
+    const unsigned features = ch06::features_used(scene, true, true);
+    const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
+    if (backend == Backend::cpu) {
+      ch07::render_bvh_shaded(backend, features,
+                              ch07::with_bvh(ch06::host_view(scene, features), tree_->view()),
+                              camera, extent, pixels);
+      return;
+    }
+    const ch06::DeviceShadedScene d_scene(scene, features);
+    const ch07::DeviceBvh d_tree(*tree_);
+    ch07::render_bvh_shaded(backend, features, ch07::with_bvh(d_scene.view(), d_tree.view()),
+                            camera, extent, pixels);
+  }
+
+private:
+  const AnimationOptions& options_;
+  int frame_ = 0;
+  std::optional<ch07::Bvh> tree_;
+};
+
+} // namespace
+
+int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving,
+                       Backend backend) {
+  AnimationOptions& animation = moving.animation;
+  animation.backend = backend;
+  animation.extent = program.common.extent();
+  if (program.common.frames > 0) animation.frames = program.common.frames;
+  if (!moving.csv_path.empty()) check_output_path(moving.csv_path, "--animation-csv");
+  const std::string builder = to_string(animation.builder);
+  Report report =
+      start_report("Chapter 10: a moving scene, its tree updated every frame", "Mpix/s",
+                   "the tree's SAH cost against the first frame's", backend);
+  WindowAnimation shown(animation);
+  const ch03::ProgramParts parts{
+      .chapter = "ch10",
+      .window_title = std::string("moving scene, tree ") + to_string(animation.updates.front()),
+      .camera = moving_scene_camera(),
+      .render = [&](Backend b, const ch03::CameraSpec& spec, Extent extent,
+                    Rgba8* pixels) { shown.render(b, spec, extent, pixels); },
+      .window_row =
+          [&](const ch03::WindowResult& result) {
+            return ch03::window_fps_row("moving scene", backend, result);
+          },
+      .window_context = {{"tree", builder + ", " + to_string(animation.updates.front()) +
+                                      " every frame drawn"}},
+  };
+  if (ch03::show_in_window(program, backend, parts, report)) {
+    finish_report(report, program.common);
+    return 0;
+  }
+  const AnimationResult result = run_animation(animation);
+  report.add_context("scene", "rippling torus, four orbiting spheres and a floor, " +
+                                  group_digits(result.triangles) + " triangles, " +
+                                  std::to_string(animation.frames) + " frames");
+  report.add_context("tree",
+                     builder + (animation.updates.size() == 1
+                                    ? std::string(", ") + to_string(animation.updates[0])
+                                    : ", rebuilt and refitted"));
+  print_frames(animation, result);
+  add_rows(report, animation, result);
+  if (!moving.csv_path.empty()) {
+    const std::string csv = animation_csv(animation, result);
+    write_output_file(moving.csv_path, "--animation-csv",
+                      [&](std::FILE* file) { std::fputs(csv.c_str(), file); });
+    std::cout << "wrote " << moving.csv_path << "\n";
+  }
+  if (!program.common.output.empty()) {
+    write_image(program.common.output, result.last_frame);
+    std::cout << "wrote " << program.common.output << " (the last frame)\n";
+  }
+  finish_report(report, program.common);
+  return 0;
+}
+
+} // namespace rt::ch10

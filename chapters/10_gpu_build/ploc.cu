@@ -1,0 +1,317 @@
+// Chapter 10: PLOC, parallel locally-ordered clustering (Meister & Bittner 2018), pass by
+// pass. See gpu_build.h. The LBVH splits where the Morton code's bits say; PLOC merges what is
+// near in space, bottom up, and looks at the boxes to do it, so its trees cost fewer ray
+// steps. Every round is a few passes of for_each_index and two prefix sums; nothing in a
+// round depends on the order threads run in, so both backends make the same tree.
+#include "gpu_build.h"
+
+#include <numeric>
+#include <string>
+
+#include "build_passes.cuh"
+#include "model_render.h"
+#include "rt/error.h"
+
+namespace rt::ch10 {
+namespace {
+
+using namespace passes;
+
+// An interior node of the clustering: node numbers 0 .. n-1 are the leaves (in Morton order),
+// n + j is interior node j, made in the order the rounds make them.
+struct PlocNode {
+  int child[2];
+};
+
+// The nodes as the passes see them.
+struct PlocTree {
+  int n;
+  Aabb* boxes;      // 2n - 1: every node's box
+  int* leaf_counts; // 2n - 1: leaves below every node
+  PlocNode* nodes;  // n - 1 interior nodes
+  int* parents;     // 2n - 1: 2 * interior node + child slot; -1 for the root
+};
+
+// The start: one cluster per leaf, boxed.
+struct StartClusters {
+  PlocTree tree;
+  const Aabb* triangle_boxes;
+  const int* sorted_ids;
+  int* clusters;
+  RT_HD void operator()(int k) const {
+    tree.boxes[k] = triangle_boxes[sorted_ids[k]];
+    tree.leaf_counts[k] = 1;
+    clusters[k] = k;
+  }
+};
+
+// [listing:ploc_neighbour]
+// Each cluster's nearest neighbour within `radius` places on either side: the one whose box
+// merged with its own has the smallest surface area, the nearer place on a tie (then the left
+// one), so the choice depends on nothing but the boxes.
+struct FindNeighbours {
+  PlocTree tree;
+  const int* clusters;
+  int count, radius;
+  int* neighbour;
+  RT_HD void operator()(int i) const {
+    const Aabb own = tree.boxes[clusters[i]];
+    float best_area = 0.0f;
+    int best = -1;
+    const int lo = i - radius < 0 ? 0 : i - radius;
+    const int hi = i + radius >= count ? count - 1 : i + radius;
+    for (int j = lo; j <= hi; ++j) {
+      if (j == i) continue;
+      Aabb merged = own;
+      merged.grow(tree.boxes[clusters[j]]);
+      const float area = merged.half_area();
+      if (best < 0 || area < best_area) {
+        best_area = area;
+        best = j;
+      }
+    }
+    neighbour[i] = best;
+  }
+};
+// [/listing:ploc_neighbour]
+
+// [listing:ploc_merge]
+// Two clusters that chose each other merge: the left one makes the new node, in its own place,
+// and the right one leaves. Some pair always chooses each other (the pair with the smallest
+// merged area of all, the leftmost such pair on a tie), so every round merges at least once.
+struct MarkMerges {
+  const int* neighbour;
+  int* makes_node; // 1 where a cluster makes a node
+  int* stays;      // 1 where a cluster is still one after the round
+  RT_HD void operator()(int i) const {
+    const int j = neighbour[i];
+    const bool mutual = j >= 0 && neighbour[j] == i;
+    makes_node[i] = mutual && i < j;
+    stays[i] = !(mutual && i > j);
+  }
+};
+
+// The round's new nodes and the clusters that go on, at places the prefix sums gave them.
+struct MergeClusters {
+  PlocTree tree;
+  const int *clusters, *neighbour, *makes_node, *stays, *node_offset, *place;
+  int first_new; // the node number of this round's first new node
+  int* next_clusters;
+  RT_HD void operator()(int i) const {
+    if (!stays[i]) return;
+    if (!makes_node[i]) {
+      next_clusters[place[i]] = clusters[i];
+      return;
+    }
+    const int a = clusters[i], b = clusters[neighbour[i]];
+    const int id = first_new + node_offset[i], interior = id - tree.n;
+    tree.nodes[interior] = {{a, b}};
+    Aabb box = tree.boxes[a];
+    box.grow(tree.boxes[b]);
+    tree.boxes[id] = box;
+    tree.leaf_counts[id] = tree.leaf_counts[a] + tree.leaf_counts[b];
+    tree.parents[a] = 2 * interior;
+    tree.parents[b] = 2 * interior + 1;
+    next_clusters[place[i]] = id;
+  }
+};
+// [/listing:ploc_merge]
+
+// How many nodes the round made and clusters it kept: the last prefix plus the last flag.
+struct RoundTotals {
+  const int *makes_node, *stays, *node_offset, *place;
+  int last;
+  int* totals;
+  RT_HD void operator()(int) const {
+    totals[0] = node_offset[last] + makes_node[last];
+    totals[1] = place[last] + stays[last];
+  }
+};
+
+// [listing:ploc_place]
+// Every node's place in chapter 07's arrays, counted on the way up as for the LBVH: a left
+// child comes right after its parent, a right child after the parent and the whole left
+// subtree (its leaves less one interior nodes); a leaf's triangle slot is the number of leaves
+// in the left subtrees passed. The walk stops at chapter 07's depth bound.
+struct PlacePloc {
+  PlocTree tree;
+  int* index; // of each interior node
+  int* slot;  // of each leaf
+  int* too_deep;
+  RT_HD void operator()(int id) const {
+    // A leaf may sit one level below the deepest interior node allowed.
+    const int deepest = id < tree.n ? ch07::k_max_bvh_depth : ch07::k_max_bvh_depth - 1;
+    int place = 0, leaf_slot = 0, depth = 0;
+    for (int x = id; tree.parents[x] >= 0;) {
+      if (++depth > deepest) {
+        mark(too_deep);
+        return;
+      }
+      const int parent = tree.parents[x] >> 1;
+      const int left = tree.nodes[parent].child[0];
+      const bool right = (tree.parents[x] & 1) != 0;
+      place += right ? tree.leaf_counts[left] : 1;
+      leaf_slot += right ? tree.leaf_counts[left] : 0;
+      x = tree.n + parent;
+    }
+    if (id < tree.n) {
+      slot[id] = leaf_slot;
+    } else {
+      index[id - tree.n] = place;
+    }
+  }
+};
+// [/listing:ploc_place]
+
+// Interior node j in chapter 07's layout, and its leaves' triangles in their slots.
+struct WritePloc {
+  PlocTree tree;
+  const int *index, *slot, *sorted_ids;
+  MeshView mesh;
+  BvhNode* out;
+  int* out_parents;
+  TriangleF* triangles;
+  int* triangle_ids;
+  RT_HD void operator()(int j) const {
+    const int at = index[j];
+    BvhNode written;
+    for (int c = 0; c < 2; ++c) {
+      const int child = tree.nodes[j].child[c];
+      const bool leaf = child < tree.n;
+      written.first[c] = leaf ? slot[child] : index[child - tree.n];
+      written.count[c] = leaf ? 1 : 0;
+      if (leaf) {
+        triangles[slot[child]] = mesh.triangle(sorted_ids[child]);
+        triangle_ids[slot[child]] = sorted_ids[child];
+      } else {
+        out_parents[written.first[c]] = 2 * at + c;
+      }
+    }
+    out[at] = written;
+    if (at == 0) out_parents[0] = -1;
+  }
+};
+
+// Prefix sums of the round's flags (exclusive), CUB's on the GPU.
+void exclusive_sum(Backend backend, Array<int>& in, Array<int>& out, int count,
+                   Array<unsigned char>& scratch) {
+  if (backend == Backend::cpu) {
+    std::exclusive_scan(in.data(), in.data() + count, out.data(), 0);
+    return;
+  }
+  std::size_t bytes = scratch.size();
+  RT_CUDA_CHECK(
+      cub::DeviceScan::ExclusiveSum(scratch.data(), bytes, in.data(), out.data(), count));
+}
+
+std::size_t scan_scratch_bytes(int n) {
+  std::size_t bytes = 0;
+  RT_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, static_cast<int*>(nullptr),
+                                              static_cast<int*>(nullptr), n));
+  return std::max<std::size_t>(bytes, 1);
+}
+
+// The arrays of one build.
+struct PlocArrays {
+  Array<Aabb> boxes;
+  Array<int> leaf_counts, parents;
+  Array<PlocNode> nodes;
+  Array<int> clusters, next_clusters, neighbour, makes_node, stays, node_offset, place, totals;
+  Array<unsigned char> scan_scratch;
+  PlocArrays(Backend backend, int n)
+      : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
+        nodes(backend, n - 1), clusters(backend, n), next_clusters(backend, n),
+        neighbour(backend, n), makes_node(backend, n), stays(backend, n),
+        node_offset(backend, n), place(backend, n), totals(backend, 2),
+        scan_scratch(backend, backend == Backend::gpu ? scan_scratch_bytes(n) : 0) {}
+  PlocTree tree(int n) {
+    return {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()};
+  }
+};
+
+// The clustering rounds, until one cluster is left.
+void cluster(Backend backend, PlocArrays& a, int n, int radius) {
+  const PlocTree tree = a.tree(n);
+  int count = n, made = 0;
+  while (count > 1) {
+    for_each_index(backend, count,
+                   FindNeighbours{tree, a.clusters.data(), count, radius, a.neighbour.data()});
+    for_each_index(backend, count,
+                   MarkMerges{a.neighbour.data(), a.makes_node.data(), a.stays.data()});
+    exclusive_sum(backend, a.makes_node, a.node_offset, count, a.scan_scratch);
+    exclusive_sum(backend, a.stays, a.place, count, a.scan_scratch);
+    for_each_index(backend, count,
+                   MergeClusters{tree, a.clusters.data(), a.neighbour.data(),
+                                 a.makes_node.data(), a.stays.data(), a.node_offset.data(),
+                                 a.place.data(), n + made, a.next_clusters.data()});
+    for_each_index(backend, 1,
+                   RoundTotals{a.makes_node.data(), a.stays.data(), a.node_offset.data(),
+                               a.place.data(), count - 1, a.totals.data()});
+    const std::vector<int> totals = a.totals.to_host();
+    made += totals[0];
+    count = totals[1];
+    std::swap(a.clusters, a.next_clusters);
+  }
+}
+
+std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int radius) {
+  const int n = static_cast<int>(mesh.triangles.size());
+  MortonOrder<std::uint32_t> order(backend, mesh);
+  PlocArrays a(backend, n);
+  Array<int> index(backend, n - 1), slot(backend, n), out_parents(backend, n - 1),
+      triangle_ids(backend, n), too_deep(backend, 1);
+  Array<BvhNode> nodes(backend, n - 1);
+  Array<TriangleF> triangles(backend, n);
+  Array<unsigned> arrivals(backend, n - 1);
+  a.parents.fill_bytes(0xff); // -1: no parent yet
+  too_deep.fill_bytes(0);
+
+  PassClock clock(backend);
+  order.sort();
+  const PlocTree tree = a.tree(n);
+  for_each_index(
+      backend, n,
+      StartClusters{tree, order.boxes.data(), order.sorted_ids.data(), a.clusters.data()});
+  cluster(backend, a, n, radius);
+  for_each_index(backend, 2 * n - 1,
+                 PlacePloc{tree, index.data(), slot.data(), too_deep.data()});
+  if (too_deep.to_host()[0] != 0) return std::nullopt;
+  for_each_index(backend, n - 1,
+                 WritePloc{tree, index.data(), slot.data(), order.sorted_ids.data(),
+                           order.mesh.view(), nodes.data(), out_parents.data(),
+                           triangles.data(), triangle_ids.data()});
+  box_bottom_up(backend, nodes, out_parents, triangles, arrivals);
+  GpuBuild build;
+  build.build_ms = clock.milliseconds();
+  build.bvh.nodes = nodes.to_host();
+  build.bvh.triangles = triangles.to_host();
+  build.bvh.triangle_ids = triangle_ids.to_host();
+  build.bvh.bounds = root_bounds(build.bvh);
+  return build;
+}
+
+} // namespace
+
+GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius) {
+  if (radius < 1 || radius > 64)
+    throw InputError("PLOC radius " + std::to_string(radius) + ": it takes 1 to 64");
+  check_build_input(mesh);
+  const int n = static_cast<int>(mesh.triangles.size());
+  if (n < 2) return build_lbvh(backend, mesh, CodeWidth::bits30); // nothing to cluster
+  if (backend == Backend::gpu)
+    ch05::check_device_memory(static_cast<std::size_t>(n) * device_bytes_per_triangle(),
+                              "the PLOC tree of " + std::to_string(n) + " triangles");
+  std::optional<GpuBuild> built = ploc_tree(backend, mesh, radius);
+  if (!built) {
+    built = build_lbvh(backend, mesh, CodeWidth::bits30);
+    built->note = "PLOC's tree was deeper than the traversal stack; built as the 30-bit LBVH";
+    return std::move(*built);
+  }
+  built->bvh.options.method = ch07::SplitMethod::sah; // merged by surface area
+  built->bvh.options.max_leaf_size = 1;
+  built->bvh.stats.build_ms = built->build_ms;
+  fill_stats(built->bvh);
+  return std::move(*built);
+}
+
+} // namespace rt::ch10

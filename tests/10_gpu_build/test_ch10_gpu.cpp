@@ -1,0 +1,84 @@
+// Chapter 10 tests on the GPU: the same passes on CUDA threads give the CPU threads' tree bit
+// for bit (nodes, their order, the triangle copies and ids), the LBVH of both code widths and
+// PLOC, on random scenes, on equal codes and on the chain that makes 63-bit codes fall back;
+// the GPU refit gives the CPU refit's boxes, on a bent mesh and on the moving scene's frames.
+#include <vector>
+
+#include "rt_catch.h"
+
+#include "07_bvh/bvh_cases.h"
+#include "animation.h"
+#include "build_cases.h"
+#include "builders.h"
+#include "check_bvh.h"
+#include "gpu_build.h"
+#include "gpu_guard.h"
+
+using namespace rt;
+using namespace rt::ch10;
+using namespace rt::ch10::testing;
+
+namespace {
+
+void check_same_tree(const ch07::Bvh& gpu, const ch07::Bvh& cpu) {
+  CHECK(rt::testing::same_bits(gpu.nodes, cpu.nodes));
+  CHECK(rt::testing::same_bits(gpu.triangles, cpu.triangles));
+  CHECK(gpu.triangle_ids == cpu.triangle_ids);
+  CHECK(rt::testing::same_bits(gpu.bounds, cpu.bounds));
+}
+
+} // namespace
+
+TEST_CASE("the GPU's LBVH and PLOC trees are the CPU's, bit for bit", "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const std::vector<Mesh> meshes = {
+      rt::testing::mixed_scene(20000, 41),
+      rt::testing::random_soup(100000, 43, Vec3f{1e5f, 0.0f, -3e4f}), identical_triangles(3000),
+      power_of_two_chain(4096), rt::testing::single_triangle()};
+  for (const Mesh& mesh : meshes) {
+    for (const CodeWidth width : {CodeWidth::bits30, CodeWidth::bits63}) {
+      CAPTURE(mesh.triangles.size(), to_string(width));
+      const GpuBuild gpu = build_lbvh(Backend::gpu, mesh, width);
+      const GpuBuild cpu = build_lbvh(Backend::cpu, mesh, width);
+      CHECK(ch07::check_bvh(gpu.bvh, mesh).empty());
+      check_same_tree(gpu.bvh, cpu.bvh);
+      CHECK(gpu.codes == cpu.codes);
+      CHECK(gpu.note == cpu.note);
+    }
+    const GpuBuild gpu = build_ploc(Backend::gpu, mesh);
+    const GpuBuild cpu = build_ploc(Backend::cpu, mesh);
+    CHECK(ch07::check_bvh(gpu.bvh, mesh).empty());
+    check_same_tree(gpu.bvh, cpu.bvh);
+  }
+}
+
+TEST_CASE("the GPU's refit is the CPU's, bit for bit", "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const Mesh scene = rt::testing::mixed_scene(20000, 47);
+  const Mesh moved = bent(scene, 0.6f);
+  ch07::Bvh lbvh = build_lbvh(Backend::cpu, scene, CodeWidth::bits30).bvh;
+  ch07::Bvh sah = ch07::build_bvh(scene, {});
+  for (const ch07::Bvh* tree : {&lbvh, &sah}) {
+    ch07::Bvh on_gpu = *tree, on_cpu = *tree;
+    refit_bvh(Backend::gpu, on_gpu, moved);
+    refit_bvh(Backend::cpu, on_cpu, moved);
+    CHECK(ch07::check_bvh(on_gpu, moved).empty());
+    check_same_tree(on_gpu, on_cpu);
+  }
+}
+
+TEST_CASE("the moving scene's frames: GPU builds and refits are the CPU's", "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const ch04::Mesh start = moving_scene_at(0.0, 128).geometry;
+  const ch04::Mesh later = moving_scene_at(2.0, 128).geometry;
+  for (const Builder builder : {Builder::lbvh, Builder::lbvh63, Builder::ploc}) {
+    CAPTURE(to_string(builder));
+    ch07::Bvh on_gpu = build_tree(builder, Backend::gpu, start).bvh;
+    ch07::Bvh on_cpu = build_tree(builder, Backend::cpu, start).bvh;
+    check_same_tree(on_gpu, on_cpu);
+    refit_bvh(Backend::gpu, on_gpu, later);
+    refit_bvh(Backend::cpu, on_cpu, later);
+    CHECK(ch07::check_bvh(on_gpu, later).empty());
+    check_same_tree(on_gpu, on_cpu);
+  }
+}

@@ -1,0 +1,167 @@
+// Chapter 10 tests of the program itself on the CPU: the report builds with every builder and
+// measures each tree, binary and 4-wide, with chapter 07's hits (in the text and the JSON);
+// --builder narrows it; the benchmark mode runs on a small scene; ray files through each tree
+// give brute force's hits; the moving scene writes its frames' figures and image; bad input
+// ends in one error line and a non-zero exit.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rt_catch.h"
+
+#include "run_program.h"
+
+#include "bvh_trace.h"
+#include "obj_loader.h"
+#include "ray_io.h"
+
+using namespace rt;
+using namespace rt::ch07;
+
+namespace {
+
+using rt::testing::contains;
+using rt::testing::ProgramRun;
+
+const rt::testing::HeadlessCpuProgram run_program(RT_CH10_PROGRAM);
+
+const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
+
+} // namespace
+
+TEST_CASE("program: the report builds with every builder and measures each tree", "[ch10]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch10");
+  const std::string json = (folder / "report.json").string();
+  const std::string image = (folder / "room.png").string();
+  const ProgramRun run =
+      run_program("--scene " + k_room + " --width 64 --height 36 --frames 1 --json " + json +
+                  " --output " + image);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  for (const char* type : {"primary", "ao", "diffuse"})
+    for (const char* tree : {"CPU SAH (ch07)", "LBVH", "LBVH 63-bit", "PLOC", "PLOC 4-wide"})
+      CHECK_THAT(run.output,
+                 contains(std::string("cornell_room, ") + type + ", " + tree + " "));
+  CHECK_THAT(run.output, contains("| builder | built on | build ms | SAH cost | depth |"));
+  CHECK_THAT(run.output, !contains("disagree"));
+  CHECK(std::filesystem::file_size(image) > 100);
+
+  std::ifstream in(json);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  int traced = 0, builds = 0;
+  for (const auto& row : report.at("rows")) {
+    const std::string variant = row.at("variant").get<std::string>();
+    CAPTURE(variant);
+    if (variant.find(", build ") != std::string::npos) {
+      CHECK(row.at("metrics").at("sah_cost").get<double>() > 0.0);
+      CHECK(row.at("metrics").at("depth").get<double>() <= 63.0);
+      ++builds;
+      continue;
+    }
+    CHECK(row.at("metrics").at("differing_from_ch07").get<double>() == 0.0);
+    ++traced;
+  }
+  CHECK(traced == 24); // 3 ray types x 4 builders x (binary, 4-wide)
+  CHECK(builds == 4);
+}
+
+TEST_CASE("program: --builder narrows the builds to it and chapter 07's", "[ch10]") {
+  const ProgramRun run = run_program("--scene " + k_room +
+                                     " --width 32 --height 18 --frames 1 --builder ploc "
+                                     "--output ''");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("cornell_room, build PLOC"));
+  CHECK_THAT(run.output, contains("cornell_room, build CPU SAH (ch07)"));
+  CHECK_THAT(run.output, !contains("cornell_room, build LBVH"));
+}
+
+TEST_CASE("program: the benchmark mode on a small scene", "[ch10]") {
+  const ProgramRun run = run_program("--benchmark " + k_room +
+                                     " --width 48 --height 27 --frames 1 --builder lbvh63");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("| cornell_room |"));
+  CHECK_THAT(run.output, contains("diffuse rays, Mrays/s"));
+  CHECK_THAT(run.output, contains("| LBVH 63-bit | cpu |"));
+  CHECK_THAT(run.output, contains("| CPU SAH (ch07) | cpu |"));
+  CHECK_THAT(run.output, !contains("| PLOC |"));
+  CHECK_THAT(run.output, !contains("DIFFERS"));
+}
+
+TEST_CASE("program: ray files through each built tree give brute force's hits", "[ch10]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch10");
+  const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
+  std::vector<RayF> rays;
+  for (int i = 0; i < 500; ++i) {
+    const float a = 0.1f * i, b = 0.037f * i;
+    rays.push_back({{0.0f, 1.0f, 0.5f}, {std::cos(a) * std::cos(b), std::sin(b), std::sin(a)}});
+  }
+  const std::string ray_file = (folder / "rays.bin").string();
+  const std::string hit_file = (folder / "hits.bin").string();
+  write_ray_file(ray_file, rays);
+  for (const char* builder : {"lbvh", "lbvh63", "ploc"}) {
+    CAPTURE(builder);
+    const ProgramRun run = run_program("--scene " + k_room + " --builder " + builder +
+                                       " --rays " + ray_file + " --hits " + hit_file);
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const std::vector<MeshHit> hits = read_hit_file(hit_file);
+    REQUIRE(hits.size() == rays.size());
+    const HitAgreement a = compare_hits(
+        hits, ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, rays));
+    CHECK(a.mismatches == 0);
+    CHECK(a.hits > 400);
+  }
+}
+
+TEST_CASE("program: the moving scene, rebuilt and refitted, its frames in a CSV", "[ch10]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch10");
+  const std::string csv = (folder / "frames.csv").string();
+  const std::string image = (folder / "moving.png").string();
+  const ProgramRun run =
+      run_program("--moving --frames 3 --detail 24 --width 48 --height 27 --animation-csv " +
+                  csv + " --output " + image);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("frame 2: rebuild "));
+  CHECK_THAT(run.output, contains("LBVH, refit"));
+  CHECK(std::filesystem::file_size(image) > 100);
+  std::ifstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  CHECK(header == "frame,rebuild_tree_ms,rebuild_trace_ms,rebuild_sah_cost,refit_tree_ms,"
+                  "refit_trace_ms,refit_sah_cost");
+  int lines = 0;
+  while (std::getline(in, line)) ++lines;
+  CHECK(lines == 3);
+
+  const ProgramRun refit =
+      run_program("--moving --frames 2 --detail 16 --width 16 --height 9 --update refit "
+                  "--builder ploc --output ''");
+  INFO(refit.output);
+  REQUIRE(refit.exit_code == 0);
+  CHECK_THAT(refit.output, contains("PLOC, refit"));
+  CHECK_THAT(refit.output, !contains("rebuild"));
+}
+
+TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch10]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch10");
+  const std::string hits = (folder / "hits.bin").string();
+  const rt::testing::RefusedInput cases[] = {
+      {"--builder octree", 2, "the builders are cpu_sah, lbvh, lbvh63, ploc"},
+      {"--update sometimes --moving", 2, "rebuild or refit"},
+      {"--update refit", 2, "go with --moving"},
+      {"--detail 4 --moving", 2, "--detail"},
+      {"--moving --benchmark", 2, "--moving runs alone"},
+      {"--scene " + (folder / "missing.obj").string(), 2, "missing.obj"},
+      {"--hits " + hits, 2, "--rays"},
+      {"--moving --animation-csv " + (folder / "no" / "such.csv").string(), 1, "such.csv"},
+  };
+  rt::testing::check_refused(run_program, cases);
+}
