@@ -108,25 +108,8 @@ public:
         bins_(3 * static_cast<std::size_t>(options.bins)), right_area_(options.bins),
         right_count_(options.bins), used_(options.bins) {
     const int n = static_cast<int>(mesh.triangles.size());
-    const auto vertex_count = static_cast<long long>(mesh.vertices.size());
     references_.resize(n);
-    for (int i = 0; i < n; ++i) {
-      const ch04::IndexedTriangle& t = mesh.triangles[i];
-      for (const int v : {t.v0, t.v1, t.v2}) {
-        if (v < 0 || v >= vertex_count) {
-          throw InputError("triangle " + std::to_string(i) + ": vertex index " +
-                           std::to_string(v) + " is out of range (the mesh has " +
-                           std::to_string(vertex_count) + " vertices)");
-        }
-        const Vec3f p = mesh.vertices[v];
-        if (!(ch04::is_finite(p.x) && ch04::is_finite(p.y) && ch04::is_finite(p.z))) {
-          char line[200];
-          std::snprintf(line, sizeof line, "triangle %d: vertex %d is not finite (%g, %g, %g)",
-                        i, v, static_cast<double>(p.x), static_cast<double>(p.y),
-                        static_cast<double>(p.z));
-          throw InputError(line);
-        }
-      }
+    for (int i = 0; i < n; ++i) { // check_build_input has vouched for every vertex
       Reference& r = references_[i];
       r.box = bounds_of(mesh.triangle(i));
       // Half of each end, not (v0 + v1 + v2) / 3 and not (lo + hi) / 2: both of those add
@@ -381,14 +364,36 @@ void check_build_options(const BuildOptions& options) {
   }
 }
 
+void check_build_input(const ch04::Mesh& mesh) {
+  const auto triangle_count = static_cast<long long>(mesh.triangles.size());
+  if (triangle_count > k_max_bvh_triangles)
+    throw InputError(std::to_string(triangle_count) + " triangles: a BVH holds at most " +
+                     std::to_string(k_max_bvh_triangles));
+  const auto vertex_count = static_cast<long long>(mesh.vertices.size());
+  for (long long i = 0; i < triangle_count; ++i) {
+    const ch04::IndexedTriangle& t = mesh.triangles[i];
+    for (const int v : {t.v0, t.v1, t.v2}) {
+      if (v < 0 || v >= vertex_count)
+        throw InputError("triangle " + std::to_string(i) + ": vertex index " +
+                         std::to_string(v) + " is out of range (the mesh has " +
+                         std::to_string(vertex_count) + " vertices)");
+      const Vec3f p = mesh.vertices[v];
+      if (!(ch04::is_finite(p.x) && ch04::is_finite(p.y) && ch04::is_finite(p.z))) {
+        char line[200];
+        std::snprintf(line, sizeof line, "triangle %lld: vertex %d is not finite (%g, %g, %g)",
+                      i, v, static_cast<double>(p.x), static_cast<double>(p.y),
+                      static_cast<double>(p.z));
+        throw InputError(line);
+      }
+    }
+  }
+}
+
 Bvh build_bvh(const ch04::Mesh& mesh, const BuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   check_build_options(options);
+  check_build_input(mesh);
   const auto triangle_count = static_cast<long long>(mesh.triangles.size());
-  if (triangle_count > k_max_bvh_triangles) {
-    throw InputError(std::to_string(triangle_count) + " triangles: a BVH holds at most " +
-                     std::to_string(k_max_bvh_triangles));
-  }
   Bvh bvh;
   bvh.options = options;
   const CpuWorkName work("building the tree");

@@ -31,6 +31,11 @@ static_assert(halving_levels(k_max_bvh_triangles, 1) <= k_max_bvh_depth - 1,
 // k_max_leaf_size and 2 <= bins <= 256.
 void check_build_options(const BuildOptions& options);
 
+// Throws rt::InputError for more than k_max_bvh_triangles triangles, and, naming the triangle,
+// for a vertex index out of range or a vertex that is not finite (its box and centroid would
+// be meaningless). Every builder of the course calls it first.
+void check_build_input(const ch04::Mesh& mesh);
+
 // Builds the tree over every triangle of `mesh`. Throws rt::InputError for bad options, for
 // more than k_max_bvh_triangles triangles, and for a triangle with a vertex index out of range
 // or a vertex that is not finite (the message names the triangle). A mesh with no triangles

@@ -140,31 +140,6 @@ std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh
 
 } // namespace
 
-void check_build_input(const ch04::Mesh& mesh) {
-  const auto triangle_count = static_cast<long long>(mesh.triangles.size());
-  if (triangle_count > ch07::k_max_bvh_triangles)
-    throw InputError(std::to_string(triangle_count) + " triangles: a BVH holds at most " +
-                     std::to_string(ch07::k_max_bvh_triangles));
-  const auto vertex_count = static_cast<long long>(mesh.vertices.size());
-  for (long long i = 0; i < triangle_count; ++i) {
-    const IndexedTriangle& t = mesh.triangles[i];
-    for (const int v : {t.v0, t.v1, t.v2}) {
-      if (v < 0 || v >= vertex_count)
-        throw InputError("triangle " + std::to_string(i) + ": vertex index " +
-                         std::to_string(v) + " is out of range (the mesh has " +
-                         std::to_string(vertex_count) + " vertices)");
-      const Vec3f p = mesh.vertices[v];
-      if (!(ch04::is_finite(p.x) && ch04::is_finite(p.y) && ch04::is_finite(p.z))) {
-        char line[200];
-        std::snprintf(line, sizeof line, "triangle %lld: vertex %d is not finite (%g, %g, %g)",
-                      i, v, static_cast<double>(p.x), static_cast<double>(p.y),
-                      static_cast<double>(p.z));
-        throw InputError(line);
-      }
-    }
-  }
-}
-
 // [listing:depth_proof]
 // Why a tree of 30-bit codes always fits chapter 07's stack. Karras's tree is a binary radix
 // tree over the keys (code, index): an interior node's children share strictly longer
@@ -182,7 +157,7 @@ static_assert(ch07::k_max_bvh_triangles == 1LL << 28);
 // [/listing:depth_proof]
 
 GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes) {
-  check_build_input(mesh);
+  ch07::check_build_input(mesh);
   const int n = static_cast<int>(mesh.triangles.size());
   if (backend == Backend::gpu)
     ch05::check_device_memory(static_cast<std::size_t>(n) * device_bytes_per_triangle(),
@@ -209,7 +184,7 @@ GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes) {
 }
 
 double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {
-  check_build_input(mesh);
+  ch07::check_build_input(mesh);
   if (mesh.triangles.size() != bvh.triangle_ids.size())
     throw InputError("refit: the mesh has " + std::to_string(mesh.triangles.size()) +
                      " triangles, the tree " + std::to_string(bvh.triangle_ids.size()));

@@ -21,16 +21,11 @@ struct GpuBuild {
   std::string note;                    // what the build had to do differently, if anything
 };
 
-// Throws rt::InputError, naming the triangle, for a vertex index out of range or a vertex that
-// is not finite (NaN would make the Morton code undefined), and for more than
-// ch07::k_max_bvh_triangles triangles. Every builder of the chapter calls it first.
-void check_build_input(const ch04::Mesh& mesh);
-
 // The LBVH of `mesh` on the resolved backend: one triangle per leaf, laid out depth first.
 // Both backends give the same tree bit for bit. A tree of 63-bit codes deeper than chapter 07's
 // traversal stack allows is built again from 30-bit codes, whose trees never are (gpu_build.cu
-// proves it); GpuBuild::note says so. Throws InputError as check_build_input does, and when the
-// GPU lacks the memory for the build.
+// proves it); GpuBuild::note says so. Throws InputError as ch07::check_build_input does, and
+// when the GPU lacks the memory for the build.
 GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes);
 
 // PLOC's search radius: each cluster looks for its nearest neighbour among this many clusters
@@ -50,8 +45,8 @@ GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc
 // count): the triangle copies are taken again from `mesh`, every box is recomputed from the
 // bottom up, and bounds and the SAH cost follow. Any tree in chapter 07's layout that passes
 // its checker for the mesh it was built from (the refit trusts its indices). Returns the
-// time taken, as build_ms is measured. Throws InputError as check_build_input does, and when
-// the mesh has another triangle count than the tree.
+// time taken, as build_ms is measured. Throws InputError as ch07::check_build_input does, and
+// when the mesh has another triangle count than the tree.
 double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh);
 
 // The report's figures for a tree in chapter 07's layout, filled from the tree itself: nodes,

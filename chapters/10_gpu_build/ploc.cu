@@ -9,6 +9,7 @@
 #include <string>
 
 #include "build_passes.cuh"
+#include "bvh_build.h"
 #include "model_render.h"
 #include "rt/error.h"
 
@@ -295,7 +296,7 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
 GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius) {
   if (radius < 1 || radius > 64)
     throw InputError("PLOC radius " + std::to_string(radius) + ": it takes 1 to 64");
-  check_build_input(mesh);
+  ch07::check_build_input(mesh);
   const int n = static_cast<int>(mesh.triangles.size());
   if (n < 2) return build_lbvh(backend, mesh, CodeWidth::bits30); // nothing to cluster
   if (backend == Backend::gpu)
