@@ -166,8 +166,9 @@ int main(int argc, char** argv) {
   ch07::add_query_options(app, options.query, "every tree's rays, build and memory");
   app.add_option_function<std::string>(
          "--tracer", [&](const std::string& text) { options.tracer = parse_tracer(text); },
-         "One tracer: binary, wide4, wide8, cwbvh8 or cwbvh8_greedy (the queries' tree; the "
-         "measurements then compare it with binary alone)")
+         "One tracer: binary, wide4, wide8, cwbvh8, cwbvh8_greedy, wide4_packed, "
+         "wide4_packed_shared_stack, wide4_packed_persistent or wide4_packed_sorted (the "
+         "queries' tree; the measurements then compare it with binary alone)")
       ->default_str("all (queries: cwbvh8)");
   app.add_option("--reference-rays", options.reference_rays,
                  "Rays per ray type the float64 reference traces (every triangle, in double)")

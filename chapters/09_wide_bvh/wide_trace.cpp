@@ -2,6 +2,7 @@
 #include "wide_trace.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "rt/error.h"
 #include "wide_traverse.h"
@@ -13,6 +14,19 @@ void trace_wide_cpu(Query query, const View& tree, std::span<const RayF> rays,
                     std::span<MeshHit> hits) {
   if (hits.size() != rays.size()) throw Error("trace_wide_cpu: one hit per ray");
   ch07::for_each_ray_cpu(rays.size(), [&](std::size_t i) {
+    const TraceHit hit = query == Query::closest ? trace_wide<Query::closest>(tree, rays[i])
+                                                 : trace_wide<Query::any>(tree, rays[i]);
+    hits[i] = {hit.t, hit.triangle};
+  });
+}
+
+template <class View>
+void trace_wide_sorted_cpu(Query query, const View& tree, const RaySortFrame& frame,
+                           std::span<const RayF> rays, std::span<MeshHit> hits) {
+  if (hits.size() != rays.size()) throw Error("trace_wide_sorted_cpu: one hit per ray");
+  const std::vector<int> order = sorted_ray_order(rays, frame);
+  ch07::for_each_ray_cpu(rays.size(), [&](std::size_t j) {
+    const int i = order[j];
     const TraceHit hit = query == Query::closest ? trace_wide<Query::closest>(tree, rays[i])
                                                  : trace_wide<Query::any>(tree, rays[i]);
     hits[i] = {hit.t, hit.triangle};
@@ -48,5 +62,9 @@ RT_CH09_CPU_LAYOUT(Wide8Bvh::View)
 RT_CH09_CPU_LAYOUT(CompressedBvh::View)
 RT_CH09_CPU_LAYOUT(Wide4PackedBvh::View)
 #undef RT_CH09_CPU_LAYOUT
+template void trace_wide_sorted_cpu<Wide4PackedBvh::View>(Query, const Wide4PackedBvh::View&,
+                                                          const RaySortFrame&,
+                                                          std::span<const RayF>,
+                                                          std::span<MeshHit>);
 
 } // namespace rt::ch09

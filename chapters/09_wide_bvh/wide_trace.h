@@ -2,12 +2,13 @@
 // thread per ray, rays in and hits out, as chapter 07's; the CPU runs the same traversal on
 // its threads. Each function exists for the views (WideTreeView) of the four stored layouts:
 // WideNode<4> and WideNode<8> with aligned triangles, CompressedNode, and WideNode<4> with
-// packed triangles.
+// packed triangles; the three GPU variants at the end for the last alone.
 #pragma once
 
 #include <span>
 
 #include "bvh_trace.h"
+#include "ray_sort.h"
 #include "rt/device_buffer.h"
 #include "wide_bvh.h"
 
@@ -44,6 +45,52 @@ template <class View> int wide_kernel_registers(Query query);
 template <class View>
 void trace_wide_cpu(Query query, const View& tree, std::span<const RayF> rays,
                     std::span<MeshHit> hits);
+
+// Three other ways of running the same traversal on the GPU, each ray's hit the same bit for
+// bit (instantiated for the chapter's best tree, Wide4PackedBvh::View).
+
+// 1. The first entries of each thread's stack in shared memory, the rest in local memory.
+template <class View>
+void trace_wide_gpu_shared_stack(Query query, const View& tree, const RayF* rays, int count,
+                                 MeshHit* hits);
+template <class View> int shared_stack_kernel_registers(Query query);
+
+// 2. Persistent threads: as many blocks as the GPU holds at once, each warp taking 32 rays at a
+// time from a counter in device memory until none are left. Made once per tracer: it owns the
+// counter and knows how many blocks of its kernels fit on the GPU.
+template <class View> class PersistentWideTracer {
+public:
+  PersistentWideTracer();
+  void trace(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits);
+  static int registers(Query query);
+
+private:
+  DeviceBuffer<unsigned> next_ray_;
+  int resident_blocks_[2] = {}; // the closest-hit kernel's, the any-hit kernel's
+};
+
+// 3. The rays traced in the order of their keys (ray_sort.h): a kernel computes the keys, CUB
+// sorts (key, index) pairs, and the trace kernel takes its rays through the sorted indices and
+// writes each hit to its own ray's slot. Made once per tracer: it keeps the key, index and
+// sort buffers, grown to the largest batch seen, so a launch allocates nothing.
+template <class View> class SortedWideTracer {
+public:
+  explicit SortedWideTracer(const RaySortFrame& frame) : frame_(frame) {}
+  void trace(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits);
+  static int registers(Query query); // the trace kernel's
+  static int key_kernel_registers();
+
+private:
+  RaySortFrame frame_;
+  DeviceBuffer<unsigned> keys_, sorted_keys_;
+  DeviceBuffer<int> indices_, sorted_indices_;
+  DeviceBuffer<unsigned char> sort_scratch_;
+};
+
+// The same on CPU threads: the keys, std::sort, then the rays in that order.
+template <class View>
+void trace_wide_sorted_cpu(Query query, const View& tree, const RaySortFrame& frame,
+                           std::span<const RayF> rays, std::span<MeshHit> hits);
 
 // Nodes read and triangles tested per ray, and the deepest stack (CPU, with counters).
 template <class View>

@@ -31,6 +31,11 @@ constexpr TracerInfo k_info[] = {
     {ChapterTracer::cwbvh8, "cwbvh8", "cwbvh8"},
     {ChapterTracer::cwbvh8_greedy, "cwbvh8 greedy", "cwbvh8_greedy"},
     {ChapterTracer::wide4_packed, "wide4 packed", "wide4_packed"},
+    {ChapterTracer::wide4_packed_shared_stack, "wide4 packed, shared stack",
+     "wide4_packed_shared_stack"},
+    {ChapterTracer::wide4_packed_persistent, "wide4 packed, persistent",
+     "wide4_packed_persistent"},
+    {ChapterTracer::wide4_packed_sorted, "wide4 packed, sorted rays", "wide4_packed_sorted"},
 };
 
 const TracerInfo& info(ChapterTracer tracer) {
@@ -39,83 +44,157 @@ const TracerInfo& info(ChapterTracer tracer) {
   throw Error("unknown chapter tracer");
 }
 
-// A stored wide tree as a tracer: shared by its functions, on the GPU uploaded once.
+// A stored wide tree, shared by the tracers that read it; on the GPU uploaded once.
+template <class Node, class Triangles> struct SharedTree {
+  std::shared_ptr<const WideTree<Node, Triangles>> host;
+  std::shared_ptr<const DeviceWideTree<Node, Triangles>> device; // null on the CPU backend
+};
+
 template <class Node, class Triangles>
-Tracer wide_tracer(std::string name, WideTree<Node, Triangles> built,
-                   const TracerScene& scene) {
-  using Tree = WideTree<Node, Triangles>;
-  const auto tree = std::make_shared<const Tree>(std::move(built));
+SharedTree<Node, Triangles> share(WideTree<Node, Triangles> built, const TracerScene& scene) {
+  SharedTree<Node, Triangles> tree;
+  tree.host = std::make_shared<const WideTree<Node, Triangles>>(std::move(built));
+  if (scene.backend == Backend::gpu) {
+    ch05::check_device_memory(tree.host->nodes.size() * sizeof(Node) +
+                                  tree.host->triangles.size() * sizeof(tree.host->triangles[0]),
+                              scene.name);
+    tree.device = std::make_shared<const DeviceWideTree<Node, Triangles>>(*tree.host);
+  }
+  return tree;
+}
+
+// A stored wide tree as a tracer, through trace_wide_cpu and trace_wide_gpu.
+template <class Node, class Triangles>
+Tracer wide_tracer(std::string name, const SharedTree<Node, Triangles>& tree) {
+  using View = typename WideTree<Node, Triangles>::View;
   Tracer tracer;
   tracer.name = std::move(name);
   tracer.rule = ch07::HitRule::ties_allowed;
-  tracer.bytes_per_triangle = tree->stats.bytes_per_triangle;
-  tracer.trace_cpu = [tree](Query query, std::span<const RayF> rays, std::span<MeshHit> hits) {
-    trace_wide_cpu(query, tree->view(), rays, hits);
+  tracer.bytes_per_triangle = tree.host->stats.bytes_per_triangle;
+  tracer.trace_cpu = [host = tree.host](Query query, std::span<const RayF> rays,
+                                        std::span<MeshHit> hits) {
+    trace_wide_cpu(query, host->view(), rays, hits);
   };
-  tracer.work = [tree](Query query, std::span<const RayF> rays) {
-    return measure_wide_work(query, tree->view(), rays);
+  tracer.work = [host = tree.host](Query query, std::span<const RayF> rays) {
+    return measure_wide_work(query, host->view(), rays);
   };
-  if (scene.backend == Backend::gpu) {
-    ch05::check_device_memory(tree->nodes.size() * sizeof(Node) +
-                                  tree->triangles.size() * sizeof(tree->triangles[0]),
-                              scene.name);
-    const auto d_tree = std::make_shared<const DeviceWideTree<Node, Triangles>>(*tree);
-    tracer.trace_gpu = [d_tree](Query query, const RayF* d_rays, int count, MeshHit* d_hits) {
-      trace_wide_gpu(query, d_tree->view(), d_rays, count, d_hits);
+  if (tree.device) {
+    tracer.trace_gpu = [device = tree.device](Query query, const RayF* d_rays, int count,
+                                              MeshHit* d_hits) {
+      trace_wide_gpu(query, device->view(), d_rays, count, d_hits);
     };
-    tracer.registers = [](Query query) {
-      return wide_kernel_registers<typename Tree::View>(query);
-    };
+    tracer.registers = [](Query query) { return wide_kernel_registers<View>(query); };
   }
   return tracer;
 }
 
-// One scene's binary trees, each built once, whichever tracers ask.
-class BinaryTrees {
+using PackedTree = SharedTree<WideNode<4>, PackedTriangles>;
+using PackedView = Wide4PackedBvh::View;
+
+// wide4 packed's tree traversed another way: the same tree and, ray by ray, the same
+// traversal, so the same hits bit for bit. Its name, rule, memory and work are wide4 packed's
+// tracer's; only the paths that trace differ.
+Tracer variant_tracer(ChapterTracer which, const PackedTree& tree, const TracerScene& scene) {
+  Tracer tracer = wide_tracer(to_string(which), tree);
+  if (which == ChapterTracer::wide4_packed_sorted) {
+    ch07::Aabb bounds;
+    for (const Vec3f& v : scene.mesh.vertices) bounds.grow(v);
+    const RaySortFrame frame = make_ray_sort_frame(bounds);
+    tracer.trace_cpu = [host = tree.host, frame](Query query, std::span<const RayF> rays,
+                                                 std::span<MeshHit> hits) {
+      trace_wide_sorted_cpu(query, host->view(), frame, rays, hits);
+    };
+    if (!tree.device) return tracer;
+    const auto sorted = std::make_shared<SortedWideTracer<PackedView>>(frame);
+    tracer.trace_gpu = [device = tree.device, sorted](Query query, const RayF* d_rays,
+                                                      int count, MeshHit* d_hits) {
+      sorted->trace(query, device->view(), d_rays, count, d_hits);
+    };
+    tracer.registers = SortedWideTracer<PackedView>::registers;
+    return tracer;
+  }
+  // A shared stack and persistent threads are GPU matters: on the CPU these two tracers run
+  // the plain traversal (a CPU thread's stack is in its cache anyway, and for_each_ray_cpu's
+  // threads already take their rays in chunks from a counter).
+  if (!tree.device) return tracer;
+  if (which == ChapterTracer::wide4_packed_shared_stack) {
+    tracer.trace_gpu = [device = tree.device](Query query, const RayF* d_rays, int count,
+                                              MeshHit* d_hits) {
+      trace_wide_gpu_shared_stack(query, device->view(), d_rays, count, d_hits);
+    };
+    tracer.registers = shared_stack_kernel_registers<PackedView>;
+    return tracer;
+  }
+  const auto persistent = std::make_shared<PersistentWideTracer<PackedView>>();
+  tracer.trace_gpu = [device = tree.device, persistent](Query query, const RayF* d_rays,
+                                                        int count, MeshHit* d_hits) {
+    persistent->trace(query, device->view(), d_rays, count, d_hits);
+  };
+  tracer.registers = PersistentWideTracer<PackedView>::registers;
+  return tracer;
+}
+
+// One scene's trees, each built once whichever tracers ask: chapter 07's binary trees the
+// collapses start from, and the wide4 packed tree that its traversal variants share.
+class SceneTrees {
 public:
-  explicit BinaryTrees(const TracerScene& scene) : scene_(scene) {}
-  const ch07::Bvh& for_collapse(Collapse collapse) {
+  SceneTrees(const TracerScene& scene, const BuildSink& on_build)
+      : scene_(scene), on_build_(on_build) {}
+
+  const ch07::Bvh& binary(Collapse collapse) {
     std::optional<ch07::Bvh>& tree = collapse == Collapse::sah ? sah_ : greedy_;
     if (!tree)
       tree = ch07::build_bvh(scene_.mesh, binary_options(collapse, scene_.bvh.options));
     return *tree;
   }
 
+  // The collapse of the tree `which` reads, the binary build's time included.
+  WideLayout layout(ChapterTracer which) {
+    const Collapse collapse =
+        which == ChapterTracer::cwbvh8_greedy ? Collapse::greedy : Collapse::sah;
+    const int width = which == ChapterTracer::wide8 || which == ChapterTracer::cwbvh8 ||
+                              which == ChapterTracer::cwbvh8_greedy
+                          ? 8
+                          : 4;
+    const ch07::Bvh& tree = binary(collapse);
+    WideLayout layout = ch09::collapse(tree, width, collapse);
+    layout.stats.build_ms += tree.stats.build_ms;
+    return layout;
+  }
+
+  // A stored tree, its build reported under `which`'s name.
+  template <class Node, class Triangles>
+  SharedTree<Node, Triangles> stored(ChapterTracer which, WideTree<Node, Triangles> built) {
+    if (on_build_) on_build_(scene_.name, to_string(which), built.stats);
+    return share(std::move(built), scene_);
+  }
+
+  const PackedTree& wide4_packed() {
+    if (!wide4_packed_)
+      wide4_packed_ =
+          stored(ChapterTracer::wide4_packed,
+                 pack_wide<4, PackedTriangles>(layout(ChapterTracer::wide4_packed)));
+    return *wide4_packed_;
+  }
+
 private:
   const TracerScene& scene_;
+  const BuildSink& on_build_;
   std::optional<ch07::Bvh> sah_, greedy_;
+  std::optional<PackedTree> wide4_packed_;
 };
 
-Tracer make_wide(ChapterTracer which, BinaryTrees& binary, const TracerScene& scene,
-                 const BuildSink& on_build) {
-  const Collapse collapse =
-      which == ChapterTracer::cwbvh8_greedy ? Collapse::greedy : Collapse::sah;
-  const int width =
-      which == ChapterTracer::wide4 || which == ChapterTracer::wide4_packed ? 4 : 8;
-  const ch07::Bvh& tree = binary.for_collapse(collapse);
-  WideLayout layout = ch09::collapse(tree, width, collapse);
-  layout.stats.build_ms += tree.stats.build_ms;
-  const auto report = [&](const WideStats& stats) {
-    if (on_build) on_build(scene.name, to_string(which), stats);
-  };
-  if (which == ChapterTracer::wide4) {
-    Wide4Bvh stored = pack_wide<4>(layout);
-    report(stored.stats);
-    return wide_tracer(to_string(which), std::move(stored), scene);
-  }
-  if (which == ChapterTracer::wide4_packed) {
-    Wide4PackedBvh stored = pack_wide<4, PackedTriangles>(layout);
-    report(stored.stats);
-    return wide_tracer(to_string(which), std::move(stored), scene);
-  }
-  if (which == ChapterTracer::wide8) {
-    Wide8Bvh stored = pack_wide<8>(layout);
-    report(stored.stats);
-    return wide_tracer(to_string(which), std::move(stored), scene);
-  }
-  CompressedBvh stored = compress(layout);
-  report(stored.stats);
-  return wide_tracer(to_string(which), std::move(stored), scene);
+Tracer make_wide(ChapterTracer which, SceneTrees& trees, const TracerScene& scene) {
+  if (which == ChapterTracer::wide4_packed)
+    return wide_tracer(to_string(which), trees.wide4_packed());
+  if (is_traversal_variant(which)) return variant_tracer(which, trees.wide4_packed(), scene);
+  if (which == ChapterTracer::wide4)
+    return wide_tracer(to_string(which),
+                       trees.stored(which, pack_wide<4>(trees.layout(which))));
+  if (which == ChapterTracer::wide8)
+    return wide_tracer(to_string(which),
+                       trees.stored(which, pack_wide<8>(trees.layout(which))));
+  return wide_tracer(to_string(which), trees.stored(which, compress(trees.layout(which))));
 }
 
 } // namespace
@@ -123,7 +202,13 @@ Tracer make_wide(ChapterTracer which, BinaryTrees& binary, const TracerScene& sc
 const char* to_string(ChapterTracer tracer) { return info(tracer).name; }
 
 Tracer wide4_tracer(std::string name, Wide4PackedBvh tree, const TracerScene& scene) {
-  return wide_tracer(std::move(name), std::move(tree), scene);
+  return wide_tracer(std::move(name), share(std::move(tree), scene));
+}
+
+bool is_traversal_variant(ChapterTracer tracer) {
+  return tracer == ChapterTracer::wide4_packed_shared_stack ||
+         tracer == ChapterTracer::wide4_packed_persistent ||
+         tracer == ChapterTracer::wide4_packed_sorted;
 }
 
 ChapterTracer parse_tracer(std::string_view name) {
@@ -138,10 +223,10 @@ ChapterTracer parse_tracer(std::string_view name) {
 ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink on_build) {
   return [tracers, on_build](const TracerScene& scene) {
     std::vector<Tracer> out;
-    BinaryTrees binary(scene);
+    SceneTrees trees(scene, on_build);
     for (const ChapterTracer which : tracers) {
       if (which != ChapterTracer::binary) {
-        out.push_back(make_wide(which, binary, scene, on_build));
+        out.push_back(make_wide(which, trees, scene));
         continue;
       }
       // The binary tree, as chapter 08 keeps it; its work counted by chapter 07's counters.
@@ -181,15 +266,18 @@ std::string memory_table(const std::vector<ch07::SceneResult>& results) {
   std::ostringstream out;
   out << "\nbytes per triangle (nodes and triangle records; in brackets: against "
       << to_string(ChapterTracer::binary) << ")\n\n| scene |";
-  for (const ChapterTracer t : k_all_tracers) out << " " << to_string(t) << " |";
+  std::vector<ChapterTracer> trees;
+  for (const ChapterTracer t : k_all_tracers)
+    if (!is_traversal_variant(t)) trees.push_back(t);
+  for (const ChapterTracer t : trees) out << " " << to_string(t) << " |";
   out << "\n|---|";
-  for (std::size_t k = 0; k < std::size(k_all_tracers); ++k) out << "---|";
+  for (std::size_t k = 0; k < trees.size(); ++k) out << "---|";
   out << "\n";
   for (const ch07::SceneResult& r : results) {
     const ch07::TracerFigure* binary =
         r.find(to_string(ChapterTracer::binary), ch07::RayType::primary);
     out << "| " << r.scene << " |";
-    for (const ChapterTracer t : k_all_tracers) {
+    for (const ChapterTracer t : trees) {
       const ch07::TracerFigure* f = r.find(to_string(t), ch07::RayType::primary);
       if (f == nullptr) {
         out << " - |";

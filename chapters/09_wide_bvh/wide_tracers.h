@@ -27,12 +27,26 @@ enum class ChapterTracer {
   cwbvh8,        // SAH collapse to 8 children, compressed 80-byte nodes (the paper's tree)
   cwbvh8_greedy, // greedy collapse to 8 children, compressed
   wide4_packed,  // wide4 with its triangles in 40-byte records instead of 48
+  // The wide4 packed tree (the same one, built once) traversed three other ways on the GPU:
+  wide4_packed_shared_stack, // the stack's first entries in shared memory
+  wide4_packed_persistent,   // persistent threads taking 32 rays a warp from a counter
+  wide4_packed_sorted,       // the rays traced sorted by octant and origin, sort included
 };
 // [/listing:chapter_tracers]
 
-inline constexpr ChapterTracer k_all_tracers[] = {
-    ChapterTracer::binary, ChapterTracer::wide4,         ChapterTracer::wide8,
-    ChapterTracer::cwbvh8, ChapterTracer::cwbvh8_greedy, ChapterTracer::wide4_packed};
+inline constexpr ChapterTracer k_all_tracers[] = {ChapterTracer::binary,
+                                                  ChapterTracer::wide4,
+                                                  ChapterTracer::wide8,
+                                                  ChapterTracer::cwbvh8,
+                                                  ChapterTracer::cwbvh8_greedy,
+                                                  ChapterTracer::wide4_packed,
+                                                  ChapterTracer::wide4_packed_shared_stack,
+                                                  ChapterTracer::wide4_packed_persistent,
+                                                  ChapterTracer::wide4_packed_sorted};
+
+// Whether the tracer is one of wide4 packed's traversal variants: its tree, traversed another
+// way on the GPU, no tree of its own.
+bool is_traversal_variant(ChapterTracer tracer);
 
 // The name in report rows ("binary (ch07)", "cwbvh8 greedy", ...).
 const char* to_string(ChapterTracer tracer);
@@ -50,7 +64,8 @@ using BuildSink = std::function<void(const std::string& scene, const std::string
                                      const WideStats& stats)>;
 
 // The tracers of `tracers` for each scene. The wide trees are built from the scene's mesh
-// with the bins of the runner's tree (binary_options), each binary tree once per scene.
+// with the bins of the runner's tree (binary_options), each binary tree and each wide tree
+// once per scene (the variants of wide4 packed share its tree, and its build row).
 ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink on_build = {});
 
 // Each wide tree's build as a report row, like chapter 07's build row: its time, nodes, depth,
@@ -58,7 +73,7 @@ ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink 
 ReportRow build_row(const std::string& scene, const std::string& tracer,
                     const WideStats& stats);
 
-// A Markdown table of each tracer's memory per scene: bytes per triangle, nodes and triangle
+// A Markdown table of each tree's memory per scene: bytes per triangle, nodes and triangle
 // records together, and the share of the binary tree's.
 std::string memory_table(const std::vector<ch07::SceneResult>& results);
 

@@ -186,6 +186,17 @@ struct NodeGroup {
 };
 inline constexpr unsigned k_child_bits = 0xff000000u;
 
+// [listing:local_stack]
+// Where trace_wide keeps its stack is a policy: entry `entry` stored and loaded. This one, the
+// default and the only one the CPU uses, is the thread's own array of k_wide_stack_size
+// entries; the GPU keeps it in local memory (cached in L1), since it is indexed at run time.
+struct LocalStack {
+  NodeGroup entries[k_wide_stack_size];
+  RT_HD void store(int entry, NodeGroup group) { entries[entry] = group; }
+  RT_HD NodeGroup load(int entry) const { return entries[entry]; }
+};
+// [/listing:local_stack]
+
 // [listing:wide_traverse]
 // The closest (or any) hit of `ray` among the tree's triangles, the same as chapter 07's
 // trace_bvh up to which of two triangles at exactly the same distance is kept.
@@ -196,26 +207,26 @@ inline constexpr unsigned k_child_bits = 0xff000000u;
 // triangles are tested at once, lowest bit first. An empty group pops the next one. The root
 // starts as the only interior child, in slot 0, of a group based at node 0. Groups carry no
 // distance: one popped after a nearer hit is tested again with the shorter ray, and its
-// children's boxes reject what now lies beyond tmax.
-template <Query kQuery, class Tree, class C = ch07::NoCounters>
+// children's boxes reject what now lies beyond tmax. `Stack` says where the stack lives.
+template <Query kQuery, class Stack = LocalStack, class Tree, class C = ch07::NoCounters>
 RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}) {
   TraceHit hit;
   if (tree.node_count == 0 || !ch07::traceable(ray)) return hit;
   const WideRay r = make_wide_ray(ray);
-  NodeGroup stack[k_wide_stack_size];
+  Stack stack;
   int stack_size = 0;
   NodeGroup group{0, (1u << (24 + r.octant_inverse)) | 1u};
   for (;;) {
     if ((group.hits & k_child_bits) == 0) {
       if (stack_size == 0) return hit;
-      group = stack[--stack_size];
+      group = stack.load(--stack_size);
     }
     const int bit = highest_bit(group.hits);
     group.hits &= ~(1u << bit);
     const unsigned slot = unsigned(bit - 24) ^ r.octant_inverse;
     const int node = group.base + bit_count(group.hits & ((1u << slot) - 1u) & 0xffu);
     if (group.hits & k_child_bits) {
-      stack[stack_size++] = group;
+      stack.store(stack_size++, group);
       counters.stack(stack_size);
     }
     counters.node();

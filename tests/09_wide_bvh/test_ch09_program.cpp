@@ -1,7 +1,8 @@
 // Chapter 09 tests of the program itself on the CPU: the report measures every tracer on
 // every ray type and finds chapter 07's hits (in the text and the JSON), --tracer narrows it,
-// the benchmark mode on a small scene, ray files and hit dumps through the compressed tree
-// give brute force's hits, and bad input ends in one error line and a non-zero exit.
+// the benchmark mode on a small scene, ray files (also through the sorted rays' tracer) and hit
+// dumps through the compressed tree give brute force's hits, and bad input ends in one error
+// line and a non-zero exit.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -44,8 +45,9 @@ TEST_CASE("program: the report measures every tracer, each with chapter 07's hit
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
   for (const char* type : {"primary", "ao", "diffuse"})
-    for (const char* tracer :
-         {"binary (ch07)", "wide4", "wide8", "cwbvh8", "cwbvh8 greedy", "wide4 packed"})
+    for (const char* tracer : {"binary (ch07)", "wide4", "wide8", "cwbvh8", "cwbvh8 greedy",
+                               "wide4 packed", "wide4 packed, shared stack",
+                               "wide4 packed, persistent", "wide4 packed, sorted rays"})
       CHECK_THAT(run.output,
                  contains(std::string("cornell_room, ") + type + ", " + tracer + "  "));
   CHECK_THAT(run.output, contains("cornell_room, build cwbvh8 (CPU)"));
@@ -69,8 +71,8 @@ TEST_CASE("program: the report measures every tracer, each with chapter 07's hit
     CHECK(row.at("metrics").at("mrays_per_s").get<double>() > 0.0);
     ++traced;
   }
-  CHECK(traced == 18); // 3 ray types x 6 tracers
-  CHECK(builds == 5);  // the wide trees
+  CHECK(traced == 27); // 3 ray types x 9 tracers
+  CHECK(builds == 5);  // the wide trees: the three variants of wide4 packed share its tree
 }
 
 TEST_CASE("program: --tracer narrows the tracers measured", "[ch09]") {
@@ -107,7 +109,7 @@ TEST_CASE("program: ray files and hit dumps through the compressed tree", "[ch09
   const std::string ray_file = (folder / "rays.bin").string();
   const std::string hit_file = (folder / "hits.bin").string();
   write_ray_file(ray_file, rays);
-  for (const char* tracer : {"cwbvh8", "wide4", "binary"}) {
+  for (const char* tracer : {"cwbvh8", "wide4", "binary", "wide4_packed_sorted"}) {
     CAPTURE(tracer);
     const ProgramRun run = run_program("--scene " + k_room + " --tracer " + tracer +
                                        " --rays " + ray_file + " --hits " + hit_file);

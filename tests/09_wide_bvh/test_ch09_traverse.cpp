@@ -5,6 +5,7 @@
 // before the first node; the stack stays within its bound; the tracers pass chapter 07's
 // runner; and chapter 06's shading through the compressed tree gives chapter 07's image.
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -18,6 +19,7 @@
 #include "bvh_build.h"
 #include "bvh_render.h"
 #include "leak_configurations.h"
+#include "ray_sort.h"
 #include "run_program.h"
 #include "runner.h"
 #include "shaded_scene.h"
@@ -274,7 +276,9 @@ TEST_CASE("the runner accepts every tracer of the chapter on the CPU", "[ch09]")
       {path}, {chapter_tracers({std::begin(k_all_tracers), std::end(k_all_tracers)}, on_build)},
       options, report);
   CHECK(result.problems == 0);
-  CHECK(built.size() == std::size(k_all_tracers) - 1); // every tree but the binary, once each
+  // Every tree but the binary, once each: the traversal variants share wide4 packed's.
+  CHECK(built.size() == 5);
+  CHECK(std::count(built.begin(), built.end(), "wide4 packed") == 1);
   for (const ChapterTracer tracer : k_all_tracers)
     for (const ch07::RayType type :
          {ch07::RayType::primary, ch07::RayType::ao, ch07::RayType::diffuse}) {
@@ -289,6 +293,83 @@ TEST_CASE("the runner accepts every tracer of the chapter on the CPU", "[ch09]")
   const ch07::TracerFigure* aligned = result.find("wide4", ch07::RayType::primary);
   const ch07::TracerFigure* packed = result.find("wide4 packed", ch07::RayType::primary);
   CHECK(aligned->bytes_per_triangle - packed->bytes_per_triangle == Approx(8.0));
+}
+
+TEST_CASE("the traversal variants give wide4 packed's hits bit for bit on the CPU", "[ch09]") {
+  for (const float offset : {0.0f, 1e5f}) {
+    const Vec3f centre{offset, offset, -offset};
+    const Mesh mesh = mixed_scene(2000, 53, centre);
+    const std::vector<RayF> rays = rays_for(mesh, 3000, 54, centre);
+    const ch07::Bvh bvh = ch07::build_bvh(mesh, {});
+    const ch07::PinholeCamera camera =
+        ch07::make_protocol_camera(centre + Vec3f{0.0f, 0.0f, 20.0f}, centre, 60.0f, 16, 9);
+    const ch07::TracerScene scene{"variants", mesh, bvh, camera, Backend::cpu};
+    int builds = 0;
+    const std::vector<ch07::Tracer> tracers = chapter_tracers(
+        {ChapterTracer::wide4_packed, ChapterTracer::wide4_packed_shared_stack,
+         ChapterTracer::wide4_packed_persistent, ChapterTracer::wide4_packed_sorted},
+        [&](const std::string&, const std::string&, const WideStats&) { ++builds; })(scene);
+    CHECK(builds == 1); // one tree, shared
+    REQUIRE(tracers.size() == 4);
+    for (const Query query : {Query::closest, Query::any}) {
+      std::vector<MeshHit> plain(rays.size());
+      tracers[0].trace_cpu(query, rays, plain);
+      CHECK(std::count_if(plain.begin(), plain.end(),
+                          [](const MeshHit& h) { return h.triangle >= 0; }) > 1000);
+      for (std::size_t k = 1; k < tracers.size(); ++k) {
+        CAPTURE(offset, ch07::to_string(query), tracers[k].name);
+        std::vector<MeshHit> variant(rays.size(), MeshHit{-1.0f, -2});
+        tracers[k].trace_cpu(query, rays, variant);
+        int differ = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+          differ += std::memcmp(&plain[i], &variant[i], sizeof(MeshHit)) != 0;
+        CHECK(differ == 0);
+        CHECK(tracers[k].bytes_per_triangle == tracers[0].bytes_per_triangle);
+      }
+    }
+  }
+}
+
+TEST_CASE("rays are sorted by octant, then by their origin's Morton code", "[ch09]") {
+  ch07::Aabb box;
+  box.grow(Vec3f{-1.0f, -1.0f, -1.0f});
+  box.grow(Vec3f{1.0f, 1.0f, 1.0f});
+  const RaySortFrame frame = make_ray_sort_frame(box);
+  const Vec3f low = box.lo, high = box.hi;
+  const Vec3f up{0.0f, 0.0f, 1.0f}, down{0.0f, 0.0f, -1.0f};
+  // The octant decides first: a ray going down sorts after every ray going up.
+  CHECK(ray_sort_key({high, up}, frame) < ray_sort_key({low, down}, frame));
+  CHECK(ray_sort_key({low, up}, frame) < ray_sort_key({high, up}, frame));
+  CHECK(ray_sort_key({low, up}, frame) == 0u); // octant 0, cell (0, 0, 0)
+  CHECK(ray_sort_key({high, {-1.0f, -1.0f, -1.0f}}, frame) == (1u << k_sort_key_bits) - 1);
+  // Outside the box, and NaN, clamp to the grid's edge cells.
+  CHECK(ray_sort_key({{-50.0f, -50.0f, -50.0f}, up}, frame) == 0u);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  CHECK(ray_sort_key({{nan, nan, nan}, up}, frame) == 0u);
+  CHECK(ray_sort_key({{50.0f, 50.0f, 50.0f}, up}, frame) == ray_sort_key({high, up}, frame));
+  // Nearby origins share the key's high bits: Morton order keeps octree cells together.
+  const unsigned a = ray_sort_key({{0.5f, 0.5f, 0.5f}, up}, frame);
+  const unsigned b = ray_sort_key({{0.51f, 0.5f, 0.5f}, up}, frame);
+  const unsigned c = ray_sort_key({{-0.5f, 0.5f, 0.5f}, up}, frame);
+  CHECK((a ^ b) < (a ^ c));
+
+  const Mesh mesh = mixed_scene(500, 57);
+  const std::vector<RayF> rays = rays_for(mesh, 2000, 58);
+  const std::vector<int> order = sorted_ray_order(rays, frame);
+  REQUIRE(order.size() == rays.size());
+  std::vector<int> seen(rays.size(), 0);
+  for (const int i : order) ++seen[i];
+  CHECK(std::count(seen.begin(), seen.end(), 1) == std::ssize(rays)); // a permutation
+  int out_of_order = 0, moved = 0;
+  for (std::size_t j = 0; j < order.size(); ++j) {
+    moved += order[j] != static_cast<int>(j);
+    if (j == 0) continue;
+    const unsigned before = ray_sort_key(rays[order[j - 1]], frame);
+    const unsigned here = ray_sort_key(rays[order[j]], frame);
+    out_of_order += before > here || (before == here && order[j - 1] > order[j]);
+  }
+  CHECK(out_of_order == 0);
+  CHECK(moved > 1000); // random rays really are reordered
 }
 
 TEST_CASE("chapter 06's shading through the compressed tree gives chapter 07's image",
