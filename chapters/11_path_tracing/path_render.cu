@@ -229,6 +229,16 @@ void PathRenderer::add_samples(const RenderSettings& settings, int samples) {
   samples_ += samples;
 }
 
+RayCounts PathRenderer::add_counted_sample(Strategy strategy) {
+  if (extent_.pixel_count() == 0) throw Error("PathRenderer: restart() before counting rays");
+  if (!queues_) queues_ = std::make_unique<WavefrontQueues>(backend_, extent_.pixel_count());
+  const WavefrontPass pass = accumulate_wavefront(
+      backend_, KernelKind::specialised, features_, strategy, view_, camera_,
+      first_sample_ + unsigned(samples_), 1, sums_.data(), non_finite_.data(), *queues_, true);
+  samples_ += 1;
+  return {pass.extended, pass.shadow_rays};
+}
+
 void PathRenderer::synchronize() const {
   if (backend_ == Backend::gpu) RT_CUDA_CHECK(cudaDeviceSynchronize());
 }

@@ -54,6 +54,14 @@ void tone_map(Backend backend, const float4* sums, Extent extent, float exposure
 
 class WavefrontQueues; // wavefront.h
 
+// The rays one sample per pixel traces: camera and bounce rays (closest hit) and shadow rays
+// (any hit).
+struct RayCounts {
+  long long extension = 0;
+  long long shadow = 0;
+  long long total() const { return extension + shadow; }
+};
+
 class PathRenderer {
 public:
   PathRenderer(const PathScene& scene, Backend backend);
@@ -66,6 +74,9 @@ public:
   // Empties the sums for a new view; the next samples are numbered from first_sample.
   void restart(const CameraSpec& camera, Extent extent, unsigned first_sample = 0);
   void add_samples(const RenderSettings& settings, int samples);
+  // Adds one sample per pixel through the wavefront, counting the rays it traces; the
+  // megakernel traces the same paths, so the same rays.
+  RayCounts add_counted_sample(Strategy strategy);
   int samples() const { return samples_; }
   Extent extent() const { return extent_; }
   // Waits for the GPU's work (nothing on the CPU): for timing.

@@ -17,6 +17,16 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
                                     describe_path_features(renderer.features()) +
                                     "; all features: every feature compiled in, switched by "
                                     "the scene's flags");
+  renderer.restart(camera, extent);
+  const RayCounts rays = renderer.add_counted_sample(strategy);
+  const double rays_per_path = double(rays.total()) / double(extent.pixel_count());
+  report.add_context(
+      "rays per path",
+      format_fixed(rays_per_path, 2) + " (" +
+          format_fixed(double(rays.extension) / double(extent.pixel_count()), 2) +
+          " camera and bounce, " +
+          format_fixed(double(rays.shadow) / double(extent.pixel_count()), 2) +
+          " shadow; sample 0, counted by the wavefront)");
   std::vector<float4> first;
   double first_ms = 0.0;
   for (const RenderSettings& v : variants) {
@@ -32,16 +42,21 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
     for (std::size_t i = 0; i < sums.size(); ++i)
       differ += (sums[i].x != first[i].x || sums[i].y != first[i].y || sums[i].z != first[i].z);
     const double non_finite = double(renderer.non_finite());
+    const double mpaths = double(extent.pixel_count()) / (t.median_ms * 1e3);
+    const double mrays = mpaths * rays_per_path; // every camera, bounce and shadow ray
     ReportRow row{describe(v) + (v.kernel == KernelKind::specialised ? " (specialised)" : ""),
                   to_string(renderer.backend()),
                   t.median_ms,
-                  double(extent.pixel_count()) / (t.median_ms * 1e3),
+                  mpaths,
                   format_fixed(t.median_ms / first_ms, 2) + "x the first row's time, " +
                       group_digits(differ) + " px differ from it, " +
-                      group_digits(static_cast<long long>(non_finite)) + " NaN/Inf samples",
+                      group_digits(static_cast<long long>(non_finite)) + " NaN/Inf samples, " +
+                      format_fixed(mrays, 1) + " Mrays/s",
                   {{"time_vs_first", t.median_ms / first_ms},
                    {"pixels_differing", double(differ)},
-                   {"non_finite", non_finite}}};
+                   {"non_finite", non_finite},
+                   {"rays_per_path", rays_per_path},
+                   {"mrays_per_s", mrays}}};
     if (renderer.backend() == Backend::gpu) { // what the features cost the GPU: registers
       const int registers = v.variant == PathVariant::megakernel
                                 ? megakernel_registers(v.kernel, renderer.features())

@@ -12,7 +12,7 @@ WavefrontQueues::WavefrontQueues(Backend backend, long long pixels)
     : paths(backend, pixels), shadows(backend, pixels),
       hits(backend, pixels), queue{BackendArray<int>(backend, pixels),
                                    BackendArray<int>(backend, pixels)},
-      shadow_queue(backend, pixels), counters(backend, 2) {}
+      shadow_queue(backend, pixels), counters(backend, 3) {}
 
 namespace {
 
@@ -65,12 +65,15 @@ template <class F> struct Shade { // shade_vertex; queue the shadow rays and the
 struct Connect { // the shadow rays, any hit; what reaches the light joins the path
   Queues q;
   PathSceneView scene;
+  bool count_rays; // for the report's rays per path, outside the timed passes
   RT_HD void operator()(int j) const {
     const int p = q.shadow_queue[j];
     const ShadowRays& shadows = q.shadows[p];
-    for (int k = 0; k < shadows.count; ++k)
+    for (int k = 0; k < shadows.count; ++k) {
+      if (count_rays) atomic_increment(&q.counters[2]);
       if (ch09::trace_wide<Query::any>(scene.tree, shadows.ray[k]).triangle < 0)
         q.paths[p].radiance += shadows.contribution[k];
+    }
   }
 };
 
@@ -82,13 +85,12 @@ struct Finish { // every path has ended: its radiance joins its pixel's sum
 };
 // [/listing:wavefront_stages]
 
-// The two counters after a stage, on the host.
-void read_counters(Backend backend, const unsigned* counters, unsigned (&out)[2]) {
+// The counters after a stage, on the host.
+void read_counters(Backend backend, const unsigned* counters, unsigned (&out)[3]) {
   if (backend == Backend::gpu) {
     RT_CUDA_CHECK(cudaMemcpy(out, counters, sizeof out, cudaMemcpyDeviceToHost));
   } else {
-    out[0] = counters[0];
-    out[1] = counters[1];
+    std::copy(counters, counters + 3, out);
   }
 }
 
@@ -114,7 +116,7 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
                                    Strategy strategy, const PathSceneView& scene,
                                    const ch03::Camera<float>& camera, unsigned first_sample,
                                    int samples, float4* sums, unsigned* non_finite,
-                                   WavefrontQueues& queues) {
+                                   WavefrontQueues& queues, bool count_shadow_rays) {
   const long long pixels = queues.capacity();
   WavefrontPass pass;
   with_kernel(kernel, features, [&](auto f) {
@@ -131,9 +133,13 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
         for_each_item(backend, live, Extend{q, scene});
         queues.counters.clear();
         for_each_item(backend, live, Shade<decltype(f)>{q, scene, f, strategy});
-        unsigned counts[2];
+        unsigned counts[3];
         read_counters(backend, queues.counters.data(), counts);
-        for_each_item(backend, counts[1], Connect{q, scene});
+        for_each_item(backend, counts[1], Connect{q, scene, count_shadow_rays});
+        if (count_shadow_rays) {
+          read_counters(backend, queues.counters.data(), counts);
+          pass.shadow_rays += counts[2];
+        }
         ++pass.bounces;
         pass.extended += live;
         pass.shadow_rays_paths += counts[1];

@@ -28,7 +28,8 @@ public:
   BackendArray<TraceHit> hits;      // hits[j]: what queue entry j's ray found
   BackendArray<int> queue[2];       // the live paths: this bounce's, the next bounce's
   BackendArray<int> shadow_queue;   // paths with shadow rays to trace
-  BackendArray<unsigned> counters;  // [0]: next queue's length, [1]: shadow queue's length
+  BackendArray<unsigned> counters;  // [0]: next queue's length, [1]: shadow queue's length,
+                                    // [2]: shadow rays traced (when counted)
 };
 
 // The wavefront's statistics of its last pass, for the report.
@@ -36,6 +37,7 @@ struct WavefrontPass {
   int bounces = 0;                 // extend stages run
   long long extended = 0;          // rays traced by extend, over every bounce
   long long shadow_rays_paths = 0; // paths queued for connect, over every bounce
+  long long shadow_rays = 0;       // shadow rays traced by connect (0 unless counted)
 };
 
 // Registers per thread of the wavefront's largest stage kernel (extend, shade or connect);
@@ -43,11 +45,13 @@ struct WavefrontPass {
 int wavefront_registers(KernelKind kernel, unsigned features);
 
 // Adds `samples` samples per pixel to `sums`, one pass of the stages per sample; the same
-// numbers and the same additions as accumulate_megakernel, so the same sums.
+// numbers and the same additions as accumulate_megakernel, so the same sums. With
+// count_shadow_rays, connect also counts the shadow rays it traces (an atomic add per ray,
+// which the timed passes leave out).
 WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned features,
                                    Strategy strategy, const PathSceneView& scene,
                                    const ch03::Camera<float>& camera, unsigned first_sample,
                                    int samples, float4* sums, unsigned* non_finite,
-                                   WavefrontQueues& queues);
+                                   WavefrontQueues& queues, bool count_shadow_rays = false);
 
 } // namespace rt::ch11

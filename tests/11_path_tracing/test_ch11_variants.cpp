@@ -133,3 +133,32 @@ TEST_CASE("rays spawned from every triangle of the room never hit it again, at a
     CHECK(self_hits == 0);
   }
 }
+
+TEST_CASE("the report's ray count: what one sample traces, and nothing changed by counting",
+          "[ch11]") {
+  const PathScene room = load_path_scene(k_room);
+  const long long pixels = k_small.pixel_count();
+  PathRenderer renderer(room, Backend::cpu);
+  renderer.restart(cornell_camera(), k_small);
+  const RayCounts mis = renderer.add_counted_sample(Strategy::mis);
+  CHECK(same_sums(renderer.sums(), render_sums(room, Backend::cpu, cornell_camera(), k_small, 1,
+                                               {PathVariant::wavefront})));
+  CHECK(mis.extension > pixels);      // every camera ray, and the paths that bounce on
+  CHECK(mis.shadow > 0);              // next-event estimation towards the light
+  CHECK(mis.shadow <= mis.extension); // one light sample per vertex, the room has no sun
+  renderer.restart(cornell_camera(), k_small);
+  const RayCounts bsdf = renderer.add_counted_sample(Strategy::bsdf);
+  CHECK(bsdf.shadow == 0); // bounces alone: no shadow rays
+  CHECK(bsdf.extension > pixels);
+  // Looking away from everything under a sky: each path is its camera ray, nothing more.
+  PathScene open = make_disc_over_floor(0.5f, 1.0f, 0.0f, 0.6f, 8.0f, 16);
+  open.environment.sky = {0.5f, 0.5f, 0.5f};
+  CameraSpec up;
+  up.eye = {0.0, 3.0, 0.0};
+  up.target = {0.0, 10.0, 0.1};
+  PathRenderer sky(open, Backend::cpu);
+  sky.restart(up, k_small);
+  const RayCounts escaping = sky.add_counted_sample(Strategy::mis);
+  CHECK(escaping.extension == pixels);
+  CHECK(escaping.shadow == 0);
+}

@@ -6,12 +6,13 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window models bench bench08 bench09 bench10 sass profile
+#   tests memcheck reports window models bench bench08 bench09 bench10 bench11 sass profile
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
 # memory paths, `bench09` chapter 09's wide trees against the binary one, `bench10` chapter 10's
-# builders on the benchmark set and its moving scene, rebuilt against refitted. `sass` counts the
+# builders on the benchmark set and its moving scene, rebuilt against refitted, `bench11` chapter
+# 11's kernels at 1920x1080 and its convergence report. `sass` counts the
 # load instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
 # cache hit rates with Nsight Compute (ncu), where it runs.
 #
@@ -25,7 +26,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 bench09 bench10 sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 bench09 bench10 bench11 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -117,6 +118,7 @@ if wanted memcheck; then
     [ "$name" = ch08_texture_memory ] && extra=(--skip-cpu --reference-rays 64)
     [ "$name" = ch09_wide_bvh ] && extra=(--skip-cpu --reference-rays 64)
     [ "$name" = ch10_gpu_build ] && extra=(--skip-cpu)
+    [ "$name" = ch11_path_tracing ] && extra=(--spp 2)
     step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
       --output "$logdir/$name-memcheck.png"
@@ -197,6 +199,29 @@ if wanted bench10 && [ -x build/native/bin/ch10_gpu_build ]; then
     --frames 300 --animation-csv "$logdir/ch10_animation.csv" --json "$logdir/moving_ch10.json" \
     --output "$logdir/ch10_moving.png"
   tail -8 "$logdir/moving_ch10.log"
+fi
+# Chapter 11 at 1920x1080: each kernel's time per sample, rays per path and Mrays/s (against
+# chapter 09's diffuse rays), on the Cornell room, Sponza in sunlight and the conference room
+# under a sky; then the convergence report behind the book's plot.
+if wanted bench11 && [ -x build/native/bin/ch11_path_tracing ]; then
+  ch11=build/native/bin/ch11_path_tracing
+  step bench_ch11_room "$ch11" --backend gpu --headless --width 1920 --height 1080 \
+    --frames 50 --json "$logdir/bench_ch11_room.json" --output "$logdir/ch11_room.png"
+  if [ -f "$models/sponza-dabrovic.obj.gz" ]; then
+    step bench_ch11_sponza "$ch11" --backend gpu --headless --scene \
+      "$models/sponza-dabrovic.obj.gz" --sun 0.3,1,0.2 --sky 0.5 --eye -14,3,0 \
+      --target 10,5,0 --fov 60 --width 1920 --height 1080 --frames 50 \
+      --json "$logdir/bench_ch11_sponza.json" --output "$logdir/ch11_sponza.png"
+  fi
+  if [ -f "$models/conference.obj.gz" ]; then
+    step bench_ch11_conference "$ch11" --backend gpu --headless --scene \
+      "$models/conference.obj.gz" --sun 0.2,1,0.3 --sky 0.5 --width 1920 --height 1080 \
+      --frames 50 --json "$logdir/bench_ch11_conference.json" \
+      --output "$logdir/ch11_conference.png"
+  fi
+  step convergence_ch11 "$ch11" --backend gpu --headless --convergence --width 320 \
+    --height 240 --spp 1024 --reference-spp 65536 --json "$logdir/convergence_ch11.json"
+  cat "$logdir"/bench_ch11_*.log
 fi
 # Chapter 08's kernels as the GPU runs them: load instructions per kernel, and cache hit rates.
 if wanted sass && [ -x build/native/bin/ch08_texture_memory ]; then
