@@ -46,7 +46,7 @@ struct Aabb {
   }
 };
 
-inline Aabb bounds_of(const TriangleF& t) {
+RT_HD inline Aabb bounds_of(const TriangleF& t) {
   Aabb box;
   box.grow(t.v0);
   box.grow(t.v1);

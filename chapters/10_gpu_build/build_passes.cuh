@@ -51,7 +51,7 @@ struct BoxTriangles {
   Aabb* boxes;
   Aabb* centroids;
   RT_HD void operator()(int i) const {
-    const Aabb box = triangle_box(mesh.triangle(i));
+    const Aabb box = ch07::bounds_of(mesh.triangle(i));
     boxes[i] = box;
     Aabb centroid;
     centroid.grow(box_centroid(box));
@@ -156,7 +156,7 @@ inline ch07::Bvh single_leaf_tree(const ch04::Mesh& mesh) {
   ch07::Bvh bvh;
   bvh.triangles = {mesh.triangle(0)};
   bvh.triangle_ids = {0};
-  bvh.bounds = triangle_box(bvh.triangles[0]);
+  bvh.bounds = ch07::bounds_of(bvh.triangles[0]);
   BvhNode root;
   root.box[0] = bvh.bounds;
   root.first[0] = 0;

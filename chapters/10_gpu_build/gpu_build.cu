@@ -209,7 +209,7 @@ double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {
   if (single_leaf) {
     // One leaf under the root: its box is the whole mesh's (the other child stays empty).
     Aabb all;
-    for (const TriangleF& t : bvh.triangles) all.grow(triangle_box(t));
+    for (const TriangleF& t : bvh.triangles) all.grow(ch07::bounds_of(t));
     bvh.nodes[0].box[0] = all;
   }
   bvh.bounds = root_bounds(bvh);

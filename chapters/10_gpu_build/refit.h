@@ -41,14 +41,6 @@ RT_HD inline Aabb load_child_box(const BvhNode& node, int c) {
   return box;
 }
 
-RT_HD inline Aabb triangle_box(const TriangleF& t) {
-  Aabb box;
-  box.grow(t.v0);
-  box.grow(t.v1);
-  box.grow(t.v2);
-  return box;
-}
-
 // What the pass reads and writes: the nodes (boxes written), each node's parent as
 // 2 * parent + child slot (-1 for the root), one arrival counter per node (zero at the start)
 // and the triangles in leaf order.
@@ -68,7 +60,7 @@ RT_HD inline void refit_node(const RefitView& tree, int i) {
     if (!node.is_leaf(c)) continue;
     Aabb box;
     for (int k = node.first[c]; k < node.first[c] + node.count[c]; ++k)
-      box.grow(triangle_box(tree.triangles[k]));
+      box.grow(ch07::bounds_of(tree.triangles[k]));
     tree.nodes[i].box[c] = box;
     if (!second_arrival(&tree.arrivals[i])) continue;
     // This thread completed node i: climb while it keeps completing nodes.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "07_bvh/bvh_cases.h"
 #include "bvh_build.h"
 #include "collapse.h"
 #include "traverse.h"
@@ -22,23 +23,8 @@ using ch04::MeshHit;
 
 inline constexpr float k_inf = std::numeric_limits<float>::infinity();
 
-// A soup of triangles of mixed sizes in a box of side `extent` around `centre`.
-inline Mesh random_soup(int count, unsigned seed, Vec3f centre = {}, float extent = 10.0f) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> where(-0.5f * extent, 0.5f * extent);
-  std::uniform_real_distribution<float> size(0.001f * extent, 0.08f * extent);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  Mesh mesh;
-  for (int i = 0; i < count; ++i) {
-    const Vec3f c = centre + Vec3f{where(rng), where(rng), where(rng)};
-    const float s = size(rng);
-    const int base = static_cast<int>(mesh.vertices.size());
-    for (int k = 0; k < 3; ++k)
-      mesh.vertices.push_back(c + Vec3f{unit(rng), unit(rng), unit(rng)} * s);
-    mesh.triangles.push_back({base, base + 1, base + 2});
-  }
-  return mesh;
-}
+// Chapter 07's soup of triangles of mixed sizes around a centre.
+using rt::testing::random_soup;
 
 // The soup with a closed sphere and a grid box in it (flat node boxes, faces on slab planes),
 // all moved by `offset`.
