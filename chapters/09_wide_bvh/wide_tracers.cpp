@@ -148,18 +148,22 @@ public:
     return *tree;
   }
 
-  // The collapse of the tree `which` reads, the binary build's time included.
-  WideLayout layout(ChapterTracer which) {
+  // The collapse of the tree `which` reads, the binary build's time included; made once per
+  // collapse and width (wide4 and wide4 packed store the same one).
+  const WideLayout& layout(ChapterTracer which) {
     const Collapse collapse =
         which == ChapterTracer::cwbvh8_greedy ? Collapse::greedy : Collapse::sah;
     const int width = which == ChapterTracer::wide8 || which == ChapterTracer::cwbvh8 ||
                               which == ChapterTracer::cwbvh8_greedy
                           ? 8
                           : 4;
-    const ch07::Bvh& tree = binary(collapse);
-    WideLayout layout = ch09::collapse(tree, width, collapse);
-    layout.stats.build_ms += tree.stats.build_ms;
-    return layout;
+    std::optional<WideLayout>& layout = layouts_[collapse == Collapse::sah][width == 8];
+    if (!layout) {
+      const ch07::Bvh& tree = binary(collapse);
+      layout = ch09::collapse(tree, width, collapse);
+      layout->stats.build_ms += tree.stats.build_ms;
+    }
+    return *layout;
   }
 
   // A stored tree, its build reported under `which`'s name.
@@ -181,6 +185,7 @@ private:
   const TracerScene& scene_;
   const BuildSink& on_build_;
   std::optional<ch07::Bvh> sah_, greedy_;
+  std::optional<WideLayout> layouts_[2][2]; // [sah][8 wide]
   std::optional<PackedTree> wide4_packed_;
 };
 
