@@ -35,8 +35,8 @@ struct JoinBoxes {
 
 // The mesh where the backend reads it.
 struct MeshArrays {
-  Array<Vec3f> vertices;
-  Array<IndexedTriangle> triangles;
+  BackendArray<Vec3f> vertices;
+  BackendArray<IndexedTriangle> triangles;
   MeshArrays(Backend backend, const ch04::Mesh& mesh)
       : vertices(backend, std::span<const Vec3f>(mesh.vertices)),
         triangles(backend, std::span<const IndexedTriangle>(mesh.triangles)) {}
@@ -104,8 +104,8 @@ template <class Code> inline std::size_t cub_scratch_bytes(int n) {
   return std::max<std::size_t>({reduce, sort, 1});
 }
 
-inline void reduce_bounds(Backend backend, Array<Aabb>& per_triangle, Array<Aabb>& out,
-                          Array<unsigned char>& scratch) {
+inline void reduce_bounds(Backend backend, BackendArray<Aabb>& per_triangle,
+                          BackendArray<Aabb>& out, BackendArray<unsigned char>& scratch) {
   const int n = static_cast<int>(per_triangle.size());
   if (backend == Backend::cpu) {
     Aabb all;
@@ -122,9 +122,9 @@ inline void reduce_bounds(Backend backend, Array<Aabb>& per_triangle, Array<Aabb
 // Codes and triangle numbers sorted by code. Both sorts are stable and the numbers start in
 // order, so equal codes keep their triangles in number order on both backends.
 template <class Code>
-inline void sort_by_code(Backend backend, Array<Code>& codes, Array<int>& ids,
-                         Array<Code>& codes_out, Array<int>& ids_out,
-                         Array<unsigned char>& scratch) {
+inline void sort_by_code(Backend backend, BackendArray<Code>& codes, BackendArray<int>& ids,
+                         BackendArray<Code>& codes_out, BackendArray<int>& ids_out,
+                         BackendArray<unsigned char>& scratch) {
   const int n = static_cast<int>(codes.size());
   if (backend == Backend::cpu) {
     std::vector<std::pair<Code, int>> pairs(n);
@@ -144,8 +144,10 @@ inline void sort_by_code(Backend backend, Array<Code>& codes, Array<int>& ids,
 
 // The boxes of a laid-out tree, from the bottom up (refit.h). `arrivals` holds a counter per
 // node; made by the caller before its clock starts, so the pass times kernels only.
-inline void box_bottom_up(Backend backend, Array<BvhNode>& nodes, const Array<int>& parents,
-                          const Array<TriangleF>& triangles, Array<unsigned>& arrivals) {
+inline void box_bottom_up(Backend backend, BackendArray<BvhNode>& nodes,
+                          const BackendArray<int>& parents,
+                          const BackendArray<TriangleF>& triangles,
+                          BackendArray<unsigned>& arrivals) {
   arrivals.fill_bytes(0);
   for_each_index(backend, static_cast<int>(nodes.size()),
                  RefitNodes{{nodes.data(), parents.data(), arrivals.data(), triangles.data()}});
@@ -192,11 +194,11 @@ inline std::size_t device_bytes_per_triangle() {
 template <class Code> struct MortonOrder {
   int n;
   MeshArrays mesh;
-  Array<Aabb> boxes;
-  Array<Aabb> centroids, centroid_bounds;
-  Array<Code> codes, sorted_codes;
-  Array<int> ids, sorted_ids;
-  Array<unsigned char> scratch;
+  BackendArray<Aabb> boxes;
+  BackendArray<Aabb> centroids, centroid_bounds;
+  BackendArray<Code> codes, sorted_codes;
+  BackendArray<int> ids, sorted_ids;
+  BackendArray<unsigned char> scratch;
 
   MortonOrder(Backend backend, const ch04::Mesh& m)
       : n(static_cast<int>(m.triangles.size())), mesh(backend, m), boxes(backend, n),

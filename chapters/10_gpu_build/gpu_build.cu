@@ -107,12 +107,12 @@ template <class Code>
 std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh) {
   const int n = static_cast<int>(mesh.triangles.size());
   MortonOrder<Code> order(backend, mesh);
-  Array<int> parents(backend, n - 1), index(backend, n - 1), out_parents(backend, n - 1),
+  BackendArray<int> parents(backend, n - 1), index(backend, n - 1), out_parents(backend, n - 1),
       too_deep(backend, 1);
-  Array<KarrasNode> karras(backend, n - 1);
-  Array<BvhNode> nodes(backend, n - 1);
-  Array<TriangleF> triangles(backend, n);
-  Array<unsigned> arrivals(backend, n - 1);
+  BackendArray<KarrasNode> karras(backend, n - 1);
+  BackendArray<BvhNode> nodes(backend, n - 1);
+  BackendArray<TriangleF> triangles(backend, n);
+  BackendArray<unsigned> arrivals(backend, n - 1);
   too_deep.fill_bytes(0);
 
   PassClock clock(backend);
@@ -191,10 +191,11 @@ double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {
   const int count = static_cast<int>(bvh.nodes.size());
   if (count == 0) return 0.0;
   MeshArrays d_mesh(backend, mesh);
-  Array<BvhNode> nodes(backend, std::span<const BvhNode>(bvh.nodes));
-  Array<int> ids(backend, std::span<const int>(bvh.triangle_ids)), parents(backend, count);
-  Array<TriangleF> triangles(backend, mesh.triangles.size());
-  Array<unsigned> arrivals(backend, count);
+  BackendArray<BvhNode> nodes(backend, std::span<const BvhNode>(bvh.nodes));
+  BackendArray<int> ids(backend, std::span<const int>(bvh.triangle_ids)),
+      parents(backend, count);
+  BackendArray<TriangleF> triangles(backend, mesh.triangles.size());
+  BackendArray<unsigned> arrivals(backend, count);
   PassClock clock(backend);
   for_each_index(backend, static_cast<int>(mesh.triangles.size()),
                  GatherTriangles{d_mesh.view(), ids.data(), triangles.data()});

@@ -1,19 +1,16 @@
 // Chapter 10: the two tools every pass of the GPU build is written with. for_each_index runs
 // one RT_HD function per item, as a CUDA kernel or on CPU threads (chapter 07's
-// for_each_ray_cpu), and Array holds a pass's data in device or host memory, whichever the
-// backend reads. Only .cu files include this header: the GPU side needs nvcc.
+// for_each_ray_cpu), and rt::BackendArray holds a pass's data in device or host memory,
+// whichever the backend reads. Only .cu files include this header: the GPU side needs nvcc.
 #pragma once
 
-#include <algorithm>
 #include <chrono>
 #include <cstddef>
-#include <cstring>
 #include <optional>
-#include <span>
-#include <vector>
 
 #include "bvh_trace.h"
 #include "rt/backend.h"
+#include "rt/backend_array.h"
 #include "rt/cuda_check.h"
 #include "rt/device_buffer.h"
 #include "rt/launch.h"
@@ -40,44 +37,6 @@ template <class Fn> void for_each_index(Backend backend, int count, Fn fn) {
   RT_CUDA_CHECK_LAUNCH("for_each_index_kernel");
 }
 // [/listing:for_each_index]
-
-// count values of T where the backend reads them.
-template <class T> class Array {
-public:
-  Array(Backend backend, std::size_t count) : backend_(backend) {
-    if (backend == Backend::gpu) {
-      device_ = DeviceBuffer<T>(count);
-    } else {
-      host_.resize(count);
-    }
-  }
-  Array(Backend backend, std::span<const T> values) : Array(backend, values.size()) {
-    if (backend == Backend::gpu) {
-      device_.upload(values);
-    } else {
-      std::copy(values.begin(), values.end(), host_.begin());
-    }
-  }
-
-  T* data() { return backend_ == Backend::gpu ? device_.data() : host_.data(); }
-  const T* data() const { return backend_ == Backend::gpu ? device_.data() : host_.data(); }
-  std::size_t size() const { return backend_ == Backend::gpu ? device_.size() : host_.size(); }
-  std::vector<T> to_host() const {
-    return backend_ == Backend::gpu ? device_.to_host() : host_;
-  }
-  void fill_bytes(unsigned char value) {
-    if (backend_ == Backend::gpu) {
-      device_.fill_bytes(value);
-    } else if (!host_.empty()) {
-      std::memset(static_cast<void*>(host_.data()), value, host_.size() * sizeof(T));
-    }
-  }
-
-private:
-  Backend backend_;
-  std::vector<T> host_;
-  DeviceBuffer<T> device_;
-};
 
 // Build time as the benchmark protocol takes it: on the GPU, CUDA events around the kernels
 // (the sort included, transfers not); on the CPU, wall time.

@@ -194,8 +194,8 @@ struct WritePloc {
 };
 
 // Prefix sums of the round's flags (exclusive), CUB's on the GPU.
-void exclusive_sum(Backend backend, Array<int>& in, Array<int>& out, int count,
-                   Array<unsigned char>& scratch) {
+void exclusive_sum(Backend backend, BackendArray<int>& in, BackendArray<int>& out, int count,
+                   BackendArray<unsigned char>& scratch) {
   if (backend == Backend::cpu) {
     std::exclusive_scan(in.data(), in.data() + count, out.data(), 0);
     return;
@@ -214,11 +214,12 @@ std::size_t scan_scratch_bytes(int n) {
 
 // The arrays of one build.
 struct PlocArrays {
-  Array<Aabb> boxes;
-  Array<int> leaf_counts, parents;
-  Array<PlocNode> nodes;
-  Array<int> clusters, next_clusters, neighbour, makes_node, stays, node_offset, place, totals;
-  Array<unsigned char> scan_scratch;
+  BackendArray<Aabb> boxes;
+  BackendArray<int> leaf_counts, parents;
+  BackendArray<PlocNode> nodes;
+  BackendArray<int> clusters, next_clusters, neighbour, makes_node, stays, node_offset, place,
+      totals;
+  BackendArray<unsigned char> scan_scratch;
   PlocArrays(Backend backend, int n)
       : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
         nodes(backend, n - 1), clusters(backend, n), next_clusters(backend, n),
@@ -259,11 +260,11 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
   const int n = static_cast<int>(mesh.triangles.size());
   MortonOrder<std::uint32_t> order(backend, mesh);
   PlocArrays a(backend, n);
-  Array<int> index(backend, n - 1), slot(backend, n), out_parents(backend, n - 1),
+  BackendArray<int> index(backend, n - 1), slot(backend, n), out_parents(backend, n - 1),
       triangle_ids(backend, n), too_deep(backend, 1);
-  Array<BvhNode> nodes(backend, n - 1);
-  Array<TriangleF> triangles(backend, n);
-  Array<unsigned> arrivals(backend, n - 1);
+  BackendArray<BvhNode> nodes(backend, n - 1);
+  BackendArray<TriangleF> triangles(backend, n);
+  BackendArray<unsigned> arrivals(backend, n - 1);
   a.parents.fill_bytes(0xff); // -1: no parent yet
   too_deep.fill_bytes(0);
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "backend_array.h"
 #include "path_trace.h"
+#include "rt/backend_array.h"
 #include "rt/image.h"
 #include "shaded_render.h"
 #include "wide_trace.h"

@@ -7,8 +7,8 @@
 // threads drift apart into different parts of one large function.
 #pragma once
 
-#include "backend_array.h"
 #include "path_trace.h"
+#include "rt/backend_array.h"
 #include "shaded_render.h"
 
 namespace rt::ch11 {
