@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "parallel.h"
 #include "path_dispatch.h"
 #include "rt/cuda_check.h"
 
@@ -104,9 +105,9 @@ int wavefront_registers(KernelKind kernel, unsigned features) {
     registers = std::max(registers, attributes.numRegs);
   };
   with_kernel(kernel, features, [&](auto f) {
-    take(for_each_pixel_kernel<ItemsAsPixels<Extend>>);
-    take(for_each_pixel_kernel<ItemsAsPixels<Shade<decltype(f)>>>);
-    take(for_each_pixel_kernel<ItemsAsPixels<Connect>>);
+    take(ch10::for_each_index_kernel<Extend>);
+    take(ch10::for_each_index_kernel<Shade<decltype(f)>>);
+    take(ch10::for_each_index_kernel<Connect>);
   });
   return registers;
 }
@@ -117,7 +118,7 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
                                    const ch03::Camera<float>& camera, unsigned first_sample,
                                    int samples, float4* sums, unsigned* non_finite,
                                    WavefrontQueues& queues, bool count_shadow_rays) {
-  const long long pixels = queues.capacity();
+  const int pixels = static_cast<int>(queues.capacity()); // an image: at most 2^25 (cli.h)
   WavefrontPass pass;
   with_kernel(kernel, features, [&](auto f) {
     for (int s = 0; s < samples; ++s) {
@@ -125,17 +126,18 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
       Queues q{queues.paths.data(),    queues.shadows.data(),  queues.hits.data(),
                queues.queue[1].data(), queues.queue[0].data(), queues.shadow_queue.data(),
                queues.counters.data()};
-      for_each_item(backend, pixels, Generate{q, camera, first_sample + unsigned(s)});
-      long long live = pixels;
+      ch10::for_each_index(backend, pixels, Generate{q, camera, first_sample + unsigned(s)});
+      int live = pixels;
       while (live > 0) {
         q.queue = queues.queue[current].data();
         q.next_queue = queues.queue[1 - current].data();
-        for_each_item(backend, live, Extend{q, scene});
+        ch10::for_each_index(backend, live, Extend{q, scene});
         queues.counters.clear();
-        for_each_item(backend, live, Shade<decltype(f)>{q, scene, f, strategy});
+        ch10::for_each_index(backend, live, Shade<decltype(f)>{q, scene, f, strategy});
         unsigned counts[3];
         read_counters(backend, queues.counters.data(), counts);
-        for_each_item(backend, counts[1], Connect{q, scene, count_shadow_rays});
+        ch10::for_each_index(backend, static_cast<int>(counts[1]),
+                             Connect{q, scene, count_shadow_rays});
         if (count_shadow_rays) {
           read_counters(backend, queues.counters.data(), counts);
           pass.shadow_rays += counts[2];
@@ -143,10 +145,10 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
         ++pass.bounces;
         pass.extended += live;
         pass.shadow_rays_paths += counts[1];
-        live = counts[0];
+        live = static_cast<int>(counts[0]);
         current = 1 - current;
       }
-      for_each_item(backend, pixels, Finish{q, sums, non_finite});
+      ch10::for_each_index(backend, pixels, Finish{q, sums, non_finite});
     }
   });
   return pass;
