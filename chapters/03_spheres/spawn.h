@@ -18,13 +18,17 @@ namespace rt::ch03 {
 // where ulps vanish, are moved as far as a point at 2^-32. The scaling assumes p is accurate
 // to a few ulps of its own largest coordinate, which holds while the ray's origin and the
 // surface are not far larger in magnitude than p. (A hit near the world origin on a sphere
-// centred 1e6 away is not: its error is ulps of 1e6.)
+// centred 1e6 away is not: its error is ulps of 1e6.) Where it does not, `scale` names the
+// largest coordinate the point was computed from, and the offset follows that instead.
 // [listing:offset_ray_origin]
-template <class T> RT_HD inline Vec3<T> offset_ray_origin(Vec3<T> p, Vec3<T> n) {
+template <class T> RT_HD inline Vec3<T> offset_ray_origin(Vec3<T> p, Vec3<T> n, T scale) {
   constexpr T k_relative = T(128) * std::numeric_limits<T>::epsilon();
   constexpr T k_magnitude_floor = T(1) / T(65536) / T(65536);
-  const T magnitude = max_of(max_component(elementwise_abs(p)), k_magnitude_floor);
+  const T magnitude = max_of(scale, k_magnitude_floor);
   return p + n * (k_relative * magnitude);
+}
+template <class T> RT_HD inline Vec3<T> offset_ray_origin(Vec3<T> p, Vec3<T> n) {
+  return offset_ray_origin(p, n, max_component(elementwise_abs(p)));
 }
 // [/listing:offset_ray_origin]
 

@@ -15,6 +15,7 @@
 #include "path_scene.h"
 #include "ray.h"
 #include "rt/atomic.h"
+#include "spawn.h"
 #include "wide_traverse.h"
 
 namespace rt::ch11 {
@@ -146,9 +147,7 @@ RT_HD inline Vec3f spawn_origin(Vec3f p, Vec3f n, const ch04::TriangleF& t) {
                                max_of(max_component(elementwise_abs(t.v0)),
                                       max_of(max_component(elementwise_abs(t.v1)),
                                              max_component(elementwise_abs(t.v2)))));
-  constexpr float k_relative = 128.0f * std::numeric_limits<float>::epsilon(); // as chapter 03
-  constexpr float k_magnitude_floor = 1.0f / 65536.0f / 65536.0f;
-  return p + n * (k_relative * max_of(largest, k_magnitude_floor));
+  return ch03::offset_ray_origin(p, n, largest);
 }
 // [/listing:spawn_origin]
 
