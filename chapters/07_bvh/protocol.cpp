@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 
 #include "camera_spec.h"
 #include "rt/error.h"
@@ -68,14 +69,20 @@ ProtocolView auto_frame_view(const Aabb& bounds) {
           ViewKind::auto_frame};
 }
 
-ProtocolView protocol_view(const std::string& scene_path, const Aabb& bounds) {
+std::optional<ProtocolView> interior_view(const std::string& scene_path) {
   std::string name = std::filesystem::path(scene_path).filename().string();
   std::transform(name.begin(), name.end(), name.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (name.starts_with("conference"))
-    return {{-300.0f, 400.0f, 300.0f}, {1000.0f, 100.0f, -700.0f}, 60.0f, ViewKind::conference};
+    return ProtocolView{
+        {-300.0f, 400.0f, 300.0f}, {1000.0f, 100.0f, -700.0f}, 60.0f, ViewKind::conference};
   if (name.starts_with("sponza"))
-    return {{-14.0f, 3.0f, 0.0f}, {10.0f, 5.0f, 0.0f}, 60.0f, ViewKind::sponza};
+    return ProtocolView{{-14.0f, 3.0f, 0.0f}, {10.0f, 5.0f, 0.0f}, 60.0f, ViewKind::sponza};
+  return std::nullopt;
+}
+
+ProtocolView protocol_view(const std::string& scene_path, const Aabb& bounds) {
+  if (const std::optional<ProtocolView> view = interior_view(scene_path)) return *view;
   return auto_frame_view(bounds);
 }
 

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -66,6 +67,8 @@ ProtocolView auto_frame_view(const Aabb& bounds);
 // The protocol's view for a scene file: a file name starting with "conference" or "sponza"
 // (any case) gets that interior view, every other scene is auto-framed.
 ProtocolView protocol_view(const std::string& scene_path, const Aabb& bounds);
+// The interior view of a scene file (conference or sponza), if its name asks for one.
+std::optional<ProtocolView> interior_view(const std::string& scene_path);
 
 // ---------------------------------------------------------------------------------------------
 // Primary rays. Chapter 03's pinhole camera already is the protocol's formula, with every

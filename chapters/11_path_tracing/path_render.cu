@@ -13,7 +13,15 @@
 namespace rt::ch11 {
 
 const char* to_string(PathVariant variant) {
-  return variant == PathVariant::megakernel ? "megakernel" : "wavefront";
+  switch (variant) {
+  case PathVariant::megakernel:
+    return "megakernel";
+  case PathVariant::persistent:
+    return "persistent";
+  case PathVariant::wavefront:
+    return "wavefront";
+  }
+  return "?";
 }
 
 const char* to_string(Strategy strategy) {
@@ -30,8 +38,9 @@ const char* to_string(Strategy strategy) {
 
 PathVariant parse_variant(const std::string& text) {
   if (text == "megakernel") return PathVariant::megakernel;
+  if (text == "persistent") return PathVariant::persistent;
   if (text == "wavefront") return PathVariant::wavefront;
-  throw UsageError("unknown variant '" + text + "' (megakernel or wavefront)");
+  throw UsageError("unknown variant '" + text + "' (megakernel, persistent or wavefront)");
 }
 
 Strategy parse_strategy(const std::string& text) {
@@ -87,6 +96,64 @@ template <class F> struct MegakernelPixel {
 };
 // [/listing:megakernel_pixel]
 
+// [listing:persistent_paths]
+// The persistent megakernel (Aila & Laine 2009's persistent threads, with the path
+// regeneration of Novak et al. 2010). In the megakernel a warp runs until the longest of its
+// 32 paths ends, the lanes of the shorter ones idle; here a lane whose path ended takes the
+// next one. The lanes that need a path take them together, one atomic per warp; paths are
+// numbered in 8x4-pixel tiles so that a warp's camera rays start coherent. One sample per
+// launch: each pixel's sum gets one path, in sample order as in the megakernel.
+template <class F>
+__global__ void persistent_paths_kernel(PathSceneView scene, F features, Strategy strategy,
+                                        ch03::Camera<float> camera, unsigned sample,
+                                        float4* sums, unsigned* non_finite,
+                                        unsigned* next_path) {
+  const int width = camera.pinhole.width, height = camera.pinhole.height;
+  const unsigned tiles_x = unsigned(width + 7) / 8u;
+  const unsigned paths = tiles_x * (unsigned(height + 3) / 4u) * 32u;
+  const unsigned lane = threadIdx.x % 32u;
+  PathState path{};
+  bool alive = false;
+  for (;;) {
+    const unsigned active = __activemask();
+    const unsigned idle = __ballot_sync(active, !alive);
+    if (idle != 0) {
+      const int leader = __ffs(int(idle)) - 1;
+      unsigned first = 0;
+      if (int(lane) == leader) first = atomicAdd(next_path, unsigned(__popc(int(idle))));
+      first = __shfl_sync(active, first, leader);
+      if (!alive) {
+        const unsigned index = first + unsigned(__popc(int(idle & ((1u << lane) - 1u))));
+        if (index >= paths) break; // every path is taken
+        const unsigned tile = index / 32u, within = index % 32u;
+        const int x = int((tile % tiles_x) * 8u + within % 8u);
+        const int y = int((tile / tiles_x) * 4u + within / 8u);
+        if (x >= width || y >= height) continue; // a tile's part outside the image
+        path = start_path(camera, x, y, sample);
+        alive = true;
+      }
+    }
+    alive = extend_path(scene, features, strategy, path);
+    if (!alive) {
+      float4 sum = sums[path.pixel];
+      add_sample(sum, path.radiance, non_finite);
+      sums[path.pixel] = sum;
+    }
+  }
+}
+// [/listing:persistent_paths]
+
+// Blocks of the persistent kernel: as many as the GPU keeps resident at once.
+constexpr int k_persistent_threads = 128;
+template <class F> int persistent_blocks() {
+  int device = 0, sms = 0, per_sm = 0;
+  RT_CUDA_CHECK(cudaGetDevice(&device));
+  RT_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
+  RT_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(
+      &per_sm, persistent_paths_kernel<F>, k_persistent_threads, 0));
+  return sms * per_sm;
+}
+
 RT_HD inline float filmic(float x) { // Narkowicz 2015's fit of the ACES curve
   const float y = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
   return clamp_to(y, 0.0f, 1.0f);
@@ -128,12 +195,37 @@ void accumulate_megakernel(Backend backend, KernelKind kernel, unsigned features
   });
 }
 
-int megakernel_registers(KernelKind kernel, unsigned features) {
+void accumulate_persistent(Backend backend, KernelKind kernel, unsigned features,
+                           Strategy strategy, const PathSceneView& scene,
+                           const ch03::Camera<float>& camera, unsigned first_sample,
+                           int samples, float4* sums, unsigned* non_finite,
+                           unsigned* next_path) {
+  if (backend == Backend::cpu)
+    return accumulate_megakernel(backend, kernel, features, strategy, scene, camera,
+                                 first_sample, samples, sums, non_finite);
+  with_kernel(kernel, features, [&](auto f) {
+    using F = decltype(f);
+    const int blocks = persistent_blocks<F>();
+    for (int s = 0; s < samples; ++s) {
+      RT_CUDA_CHECK(cudaMemsetAsync(next_path, 0, sizeof(unsigned)));
+      persistent_paths_kernel<F><<<blocks, k_persistent_threads>>>(
+          scene, f, strategy, camera, first_sample + unsigned(s), sums, non_finite,
+          next_path);
+      RT_CUDA_CHECK_LAUNCH("persistent_paths_kernel");
+    }
+  });
+}
+
+int megakernel_registers(KernelKind kernel, unsigned features, PathVariant variant) {
   int registers = 0;
   with_kernel(kernel, features, [&](auto f) {
+    using F = decltype(f);
     cudaFuncAttributes attributes{};
-    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes,
-                                        for_each_pixel_kernel<MegakernelPixel<decltype(f)>>));
+    if (variant == PathVariant::persistent)
+      RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, persistent_paths_kernel<F>));
+    else
+      RT_CUDA_CHECK(
+          cudaFuncGetAttributes(&attributes, for_each_pixel_kernel<MegakernelPixel<F>>));
     registers = attributes.numRegs;
   });
   return registers;
@@ -198,6 +290,7 @@ PathRenderer::PathRenderer(const PathScene& scene, Backend backend)
                       s.lights.cdf.data());
   }
   non_finite_ = BackendArray<unsigned>(backend_, 1);
+  next_path_ = BackendArray<unsigned>(backend_, 1);
 }
 
 PathRenderer::~PathRenderer() = default;
@@ -221,6 +314,10 @@ void PathRenderer::add_samples(const RenderSettings& settings, int samples) {
   if (settings.variant == PathVariant::megakernel) {
     accumulate_megakernel(backend_, settings.kernel, features_, settings.strategy, view_,
                           camera_, first, samples, sums_.data(), non_finite_.data());
+  } else if (settings.variant == PathVariant::persistent) {
+    accumulate_persistent(backend_, settings.kernel, features_, settings.strategy, view_,
+                          camera_, first, samples, sums_.data(), non_finite_.data(),
+                          next_path_.data());
   } else {
     if (!queues_) queues_ = std::make_unique<WavefrontQueues>(backend_, extent_.pixel_count());
     accumulate_wavefront(backend_, settings.kernel, features_, settings.strategy, view_,

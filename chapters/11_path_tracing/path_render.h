@@ -18,10 +18,13 @@ namespace rt::ch11 {
 
 using ch06::KernelKind;
 
-enum class PathVariant { megakernel, wavefront };
+// megakernel: a thread per pixel, its paths traced to the end; persistent: the megakernel's
+// code, but threads that stay resident and start a new path as soon as one ends (on the CPU it
+// is the megakernel); wavefront: a kernel per stage of every path (wavefront.h).
+enum class PathVariant { megakernel, persistent, wavefront };
 const char* to_string(PathVariant variant);
 const char* to_string(Strategy strategy);
-// "megakernel" / "wavefront" and "bsdf" / "light" / "mis"; anything else is a UsageError.
+// "megakernel" / "persistent" / "wavefront" and "bsdf" / "light" / "mis"; anything else is a UsageError.
 PathVariant parse_variant(const std::string& text);
 Strategy parse_strategy(const std::string& text);
 
@@ -44,8 +47,20 @@ void accumulate_megakernel(Backend backend, KernelKind kernel, unsigned features
                            const ch03::Camera<float>& camera, unsigned first_sample,
                            int samples, float4* sums, unsigned* non_finite);
 
-// Registers per thread of the megakernel's GPU kernel; needs a usable GPU.
-int megakernel_registers(KernelKind kernel, unsigned features);
+// The same sums by persistent threads: one launch per sample, as many threads as the GPU
+// holds at once, each taking 32-path batches per warp from `next_path` (one counter in the
+// backend's memory) and starting a new path whenever its last one ended. The CPU backend
+// runs accumulate_megakernel.
+void accumulate_persistent(Backend backend, KernelKind kernel, unsigned features,
+                           Strategy strategy, const PathSceneView& scene,
+                           const ch03::Camera<float>& camera, unsigned first_sample,
+                           int samples, float4* sums, unsigned* non_finite,
+                           unsigned* next_path);
+
+// Registers per thread of the megakernel's GPU kernel (or the persistent one's); needs a
+// usable GPU.
+int megakernel_registers(KernelKind kernel, unsigned features,
+                         PathVariant variant = PathVariant::megakernel);
 
 // The pixel's mean radiance times `exposure`, through a filmic curve (Narkowicz's fit of
 // ACES) and the sRGB transfer function, as 8-bit pixels in the backend's memory.
@@ -99,6 +114,7 @@ private:
   Extent extent_{};
   BackendArray<float4> sums_;
   BackendArray<unsigned> non_finite_;
+  BackendArray<unsigned> next_path_; // the persistent threads' counter
   std::unique_ptr<WavefrontQueues> queues_; // made for the first wavefront samples
   unsigned first_sample_ = 0;
   int samples_ = 0;

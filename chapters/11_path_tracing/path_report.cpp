@@ -12,6 +12,7 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
   const RenderSettings variants[] = {
       {PathVariant::megakernel, KernelKind::specialised, strategy},
       {PathVariant::megakernel, KernelKind::all_features, strategy},
+      {PathVariant::persistent, KernelKind::specialised, strategy},
       {PathVariant::wavefront, KernelKind::specialised, strategy}};
   report.add_context("kernels", "specialised on " +
                                     describe_path_features(renderer.features()) +
@@ -58,9 +59,10 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
                    {"rays_per_path", rays_per_path},
                    {"mrays_per_s", mrays}}};
     if (renderer.backend() == Backend::gpu) { // what the features cost the GPU: registers
-      const int registers = v.variant == PathVariant::megakernel
-                                ? megakernel_registers(v.kernel, renderer.features())
-                                : wavefront_registers(v.kernel, renderer.features());
+      const int registers =
+          v.variant == PathVariant::wavefront
+              ? wavefront_registers(v.kernel, renderer.features())
+              : megakernel_registers(v.kernel, renderer.features(), v.variant);
       row.error += ", " + std::to_string(registers) + " registers";
       row.metrics.push_back({"registers", registers});
     }

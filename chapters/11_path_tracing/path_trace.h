@@ -249,20 +249,27 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
 // [/listing:shade_vertex]
 
 // [listing:megakernel]
-// The megakernel's path: trace, shade, trace the shadow rays, until the path ends.
+// One step of a path in the megakernel: trace, shade, trace the shadow rays. False when the
+// path ends.
+template <class F>
+RT_HD bool extend_path(const PathSceneView& s, F features, Strategy strategy, PathState& path) {
+  const TraceHit hit = ch09::trace_wide<Query::closest>(s.tree, path.ray);
+  ShadowRays shadows;
+  const bool goes_on = shade_vertex(s, features, strategy, path, hit, shadows);
+  for (int k = 0; k < shadows.count; ++k)
+    if (ch09::trace_wide<Query::any>(s.tree, shadows.ray[k]).triangle < 0)
+      path.radiance += shadows.contribution[k];
+  return goes_on;
+}
+
+// The megakernel's path: steps until it ends.
 template <class F>
 RT_HD Vec3f trace_path(const PathSceneView& s, F features, Strategy strategy,
                        const ch03::Camera<float>& camera, int x, int y, unsigned sample) {
   PathState path = start_path(camera, x, y, sample);
-  for (;;) {
-    const TraceHit hit = ch09::trace_wide<Query::closest>(s.tree, path.ray);
-    ShadowRays shadows;
-    const bool goes_on = shade_vertex(s, features, strategy, path, hit, shadows);
-    for (int k = 0; k < shadows.count; ++k)
-      if (ch09::trace_wide<Query::any>(s.tree, shadows.ray[k]).triangle < 0)
-        path.radiance += shadows.contribution[k];
-    if (!goes_on) return path.radiance;
+  while (extend_path(s, features, strategy, path)) {
   }
+  return path.radiance;
 }
 // [/listing:megakernel]
 

@@ -1,6 +1,7 @@
 // Chapter 11 tests on the GPU: the same sample numbers on both backends give nearly the same
 // image (the backends' float arithmetic differs in the last bits: fused multiply-adds, sin
-// and cos), and the megakernel and wavefront agree on the GPU as on the CPU.
+// and cos), the megakernel and wavefront agree on the GPU as on the CPU, and the persistent
+// threads add exactly the megakernel's samples.
 #include <cmath>
 
 #include "rt_catch.h"
@@ -31,7 +32,8 @@ TEST_CASE("GPU and CPU render the same image up to float rounding", "[ch11][gpu]
   RT_REQUIRE_GPU();
   const PathScene room = load_path_scene(k_room);
   const Extent extent{64, 48};
-  for (const PathVariant variant : {PathVariant::megakernel, PathVariant::wavefront}) {
+  for (const PathVariant variant :
+       {PathVariant::megakernel, PathVariant::persistent, PathVariant::wavefront}) {
     CAPTURE(to_string(variant));
     const RenderSettings settings{variant, KernelKind::specialised, Strategy::mis};
     unsigned long long gpu_bad = 1;
@@ -53,4 +55,23 @@ TEST_CASE("GPU: the megakernel and the wavefront agree", "[ch11][gpu]") {
   const auto wave = render_mean(room, Backend::gpu, cornell_camera(), extent, 8,
                                 {PathVariant::wavefront, KernelKind::specialised});
   CHECK(relative_difference(mega, wave) < 0.02);
+}
+
+TEST_CASE("GPU: the persistent threads give the megakernel's sums, bit for bit",
+          "[ch11][gpu]") {
+  RT_REQUIRE_GPU();
+  const PathScene room = load_path_scene(k_room);
+  // A size that is no multiple of the 8x4 tiles, and several launches (one per sample).
+  for (const Extent extent : {Extent{61, 43}, Extent{8, 4}, Extent{1, 1}}) {
+    CAPTURE(extent.width, extent.height);
+    const auto sums_of = [&](PathVariant variant) {
+      PathRenderer renderer(room, Backend::gpu);
+      renderer.restart(cornell_camera(), extent);
+      renderer.add_samples({variant, KernelKind::specialised, Strategy::mis}, 5);
+      return renderer.sums();
+    };
+    const std::vector<float4> persistent = sums_of(PathVariant::persistent);
+    CHECK(same_sums(sums_of(PathVariant::megakernel), persistent));
+    for (const float4& s : persistent) CHECK(s.w == 5.0f); // every pixel, every sample once
+  }
 }
