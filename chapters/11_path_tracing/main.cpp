@@ -1,7 +1,8 @@
 // Chapter 11: progressive path tracing. By default it renders the course's Cornell room (or
 // any OBJ file with --scene, its MTL's Kd and Ke as albedo and emission) with next-event
 // estimation and MIS, and reports each variant's time per sample: the megakernel specialised
-// on the scene's features, the all-features megakernel and the wavefront stages. Other modes:
+// on the scene's features, the all-features megakernel, the persistent threads (the default for
+// the image and the window: the GPU's fastest) and the wavefront stages. Other modes:
 //   --window          progressive display; moving the camera starts the sums again
 //   --convergence     error against run time at 1, 2, 4, ... --spp samples per pixel, against
 //                     a float64 reference of --reference-spp samples, for every strategy
@@ -30,7 +31,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   std::string pfm;      // the linear radiance, unless empty
   bool convergence = false;
   int reference_spp = 1024;
-  RenderSettings settings;
+  RenderSettings settings{.variant = PathVariant::persistent}; // the GPU's fastest
   double exposure = 1.0;
   double sky = -1.0; // grey sky radiance; < 0: 1 for a scene without emitters, else none
   std::optional<Vec3d> sun;
@@ -58,8 +59,8 @@ PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   // framed from outside.
   const bool room = options.scene_path == RT_ASSETS_DIR "/cornell_room.obj.gz";
   const std::optional<ch07::ProtocolView> interior = ch07::interior_view(options.scene_path);
-  CameraSpec framed = ch06::frame_bounds_down_z(ch06::bounds_of(scene.mesh),
-                                                camera.fov_degrees, options.common.extent());
+  CameraSpec framed = ch06::frame_bounds_down_z(ch06::bounds_of(scene.mesh), camera.fov_degrees,
+                                                options.common.extent());
   if (room) framed = ch11::cornell_camera();
   if (interior)
     framed = {.eye = interior->eye.as<double>(),
@@ -67,7 +68,8 @@ PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
               .fov_degrees = interior->vfov_degrees};
   if (!options.eye_given) camera.eye = framed.eye;
   if (!options.target_given) camera.target = framed.target;
-  if ((room || interior.has_value()) && !options.fov_given) camera.fov_degrees = framed.fov_degrees;
+  if ((room || interior.has_value()) && !options.fov_given)
+    camera.fov_degrees = framed.fov_degrees;
   return scene;
 }
 
@@ -178,7 +180,7 @@ int main(int argc, char** argv) {
          "--variant",
          [&](const std::string& t) { options.settings.variant = parse_variant(t); },
          "megakernel, persistent or wavefront (the image and the window)")
-      ->default_str("megakernel");
+      ->default_str("persistent");
   app.add_option_function<std::string>(
          "--strategy",
          [&](const std::string& t) { options.settings.strategy = parse_strategy(t); },

@@ -209,8 +209,7 @@ void accumulate_persistent(Backend backend, KernelKind kernel, unsigned features
     for (int s = 0; s < samples; ++s) {
       RT_CUDA_CHECK(cudaMemsetAsync(next_path, 0, sizeof(unsigned)));
       persistent_paths_kernel<F><<<blocks, k_persistent_threads>>>(
-          scene, f, strategy, camera, first_sample + unsigned(s), sums, non_finite,
-          next_path);
+          scene, f, strategy, camera, first_sample + unsigned(s), sums, non_finite, next_path);
       RT_CUDA_CHECK_LAUNCH("persistent_paths_kernel");
     }
   });

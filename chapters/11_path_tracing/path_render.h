@@ -24,7 +24,8 @@ using ch06::KernelKind;
 enum class PathVariant { megakernel, persistent, wavefront };
 const char* to_string(PathVariant variant);
 const char* to_string(Strategy strategy);
-// "megakernel" / "persistent" / "wavefront" and "bsdf" / "light" / "mis"; anything else is a UsageError.
+// "megakernel" / "persistent" / "wavefront" and "bsdf" / "light" / "mis"; anything else is a
+// UsageError.
 PathVariant parse_variant(const std::string& text);
 Strategy parse_strategy(const std::string& text);
 
@@ -114,7 +115,7 @@ private:
   Extent extent_{};
   BackendArray<float4> sums_;
   BackendArray<unsigned> non_finite_;
-  BackendArray<unsigned> next_path_; // the persistent threads' counter
+  BackendArray<unsigned> next_path_;        // the persistent threads' counter
   std::unique_ptr<WavefrontQueues> queues_; // made for the first wavefront samples
   unsigned first_sample_ = 0;
   int samples_ = 0;

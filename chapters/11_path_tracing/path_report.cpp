@@ -72,18 +72,18 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
 
 Report convergence_report(const PathScene& scene, Backend backend, const CameraSpec& camera,
                           Extent extent, int max_samples, int reference_samples) {
-  Report report = start_report("Chapter 11: error against run time", "Mpaths/s",
-                               "float64 mean of " + std::to_string(reference_samples) +
-                                   " spp (megakernel, mis)",
-                               backend);
+  Report report = start_report(
+      "Chapter 11: error against run time", "Mpaths/s",
+      "float64 mean of " + std::to_string(reference_samples) + " spp (mis)", backend);
   report.add_context("scene", scene.description);
   report.add_context("resolution", to_string(extent));
   PathRenderer renderer(scene, backend);
   const Reference reference = render_reference(renderer, camera, extent, reference_samples);
   report.add_context("reference seconds", format_fixed(reference.seconds, 1));
   const RenderSettings variants[] = {
-      {PathVariant::megakernel, KernelKind::specialised, Strategy::bsdf},
-      {PathVariant::megakernel, KernelKind::specialised, Strategy::light},
+      {PathVariant::persistent, KernelKind::specialised, Strategy::bsdf},
+      {PathVariant::persistent, KernelKind::specialised, Strategy::light},
+      {PathVariant::persistent, KernelKind::specialised, Strategy::mis},
       {PathVariant::megakernel, KernelKind::specialised, Strategy::mis},
       {PathVariant::wavefront, KernelKind::specialised, Strategy::mis}};
   for (const RenderSettings& v : variants)

@@ -35,6 +35,7 @@ TEST_CASE("program: three kernels, the same sums, an image and its radiance", "[
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.output, contains("megakernel, mis (specialised)"));
   CHECK_THAT(run.output, contains("megakernel, mis, all features"));
+  CHECK_THAT(run.output, contains("persistent, mis (specialised)"));
   CHECK_THAT(run.output, contains("wavefront, mis (specialised)"));
   CHECK_THAT(run.output, contains("features: emitters"));
   CHECK_THAT(run.output, !contains("NaN/Inf samples dropped"));
@@ -64,13 +65,13 @@ TEST_CASE("program: --convergence rows fall with the samples, for every strategy
     CHECK(metrics.at("non_finite").get<double>() == 0.0);
     CHECK(metrics.at("wall_ms").get<double>() > 0.0);
   }
-  REQUIRE(rel_mse.size() == 4);
+  REQUIRE(rel_mse.size() == 5);
   for (const auto& [variant, errors] : rel_mse) {
     CAPTURE(variant);
     REQUIRE(errors.size() == 5);                // 1, 2, 4, 8, 16
     CHECK(errors.at(16) < 0.35 * errors.at(1)); // 1/16 expected; a wide margin for noise
   }
-  CHECK(rel_mse.at("megakernel, mis").at(16) < rel_mse.at("megakernel, bsdf").at(16));
+  CHECK(rel_mse.at("persistent, mis").at(16) < rel_mse.at("persistent, bsdf").at(16));
 }
 
 TEST_CASE("program: --seconds renders until the time is up", "[ch11]") {

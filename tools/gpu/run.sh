@@ -202,26 +202,45 @@ if wanted bench10 && [ -x build/native/bin/ch10_gpu_build ]; then
 fi
 # Chapter 11 at 1920x1080: each kernel's time per sample, rays per path and Mrays/s (against
 # chapter 09's diffuse rays), on the Cornell room, Sponza in sunlight and the conference room
-# under a sky; then the convergence report behind the book's plot.
+# under a sky (both from the benchmark's interior views); then the convergence reports behind
+# the book's plots, and what the profiler counts in the megakernel and the persistent threads.
 if wanted bench11 && [ -x build/native/bin/ch11_path_tracing ]; then
   ch11=build/native/bin/ch11_path_tracing
   step bench_ch11_room "$ch11" --backend gpu --headless --width 1920 --height 1080 \
     --frames 50 --json "$logdir/bench_ch11_room.json" --output "$logdir/ch11_room.png"
   if [ -f "$models/sponza-dabrovic.obj.gz" ]; then
     step bench_ch11_sponza "$ch11" --backend gpu --headless --scene \
-      "$models/sponza-dabrovic.obj.gz" --sun 0.3,1,0.2 --sky 0.5 --eye -14,3,0 \
-      --target 10,5,0 --fov 60 --width 1920 --height 1080 --frames 50 \
-      --json "$logdir/bench_ch11_sponza.json" --output "$logdir/ch11_sponza.png"
+      "$models/sponza-dabrovic.obj.gz" --sun 0.3,1,0.2 --sky 0.5 --width 1920 --height 1080 \
+      --frames 50 --json "$logdir/bench_ch11_sponza.json" --output "$logdir/ch11_sponza.png"
+    step convergence_ch11_sponza "$ch11" --backend gpu --headless --convergence --scene \
+      "$models/sponza-dabrovic.obj.gz" --sun 0.3,1,0.2 --sky 0.5 --width 320 --height 240 \
+      --spp 1024 --reference-spp 16384 --json "$logdir/convergence_ch11_sponza.json"
   fi
   if [ -f "$models/conference.obj.gz" ]; then
     step bench_ch11_conference "$ch11" --backend gpu --headless --scene \
       "$models/conference.obj.gz" --sun 0.2,1,0.3 --sky 0.5 --width 1920 --height 1080 \
       --frames 50 --json "$logdir/bench_ch11_conference.json" \
       --output "$logdir/ch11_conference.png"
+    step convergence_ch11_conference "$ch11" --backend gpu --headless --convergence --scene \
+      "$models/conference.obj.gz" --sun 0.2,1,0.3 --sky 0.5 --width 320 --height 240 \
+      --spp 1024 --reference-spp 16384 --json "$logdir/convergence_ch11_conference.json"
   fi
-  step convergence_ch11 "$ch11" --backend gpu --headless --convergence --width 320 \
-    --height 240 --spp 1024 --reference-spp 65536 --json "$logdir/convergence_ch11.json"
+  step convergence_ch11_room "$ch11" --backend gpu --headless --convergence --width 320 \
+    --height 240 --spp 1024 --reference-spp 65536 --json "$logdir/convergence_ch11_room.json"
   cat "$logdir"/bench_ch11_*.log
+  if command -v ncu >/dev/null && [ -f "$models/sponza-dabrovic.obj.gz" ]; then
+    metrics=gpu__time_duration.sum,smsp__thread_inst_executed_per_inst_executed.ratio
+    metrics=$metrics,sm__warps_active.avg.pct_of_peak_sustained_active,smsp__inst_executed.sum
+    metrics=$metrics,l1tex__t_sector_hit_rate.pct,sm__throughput.avg.pct_of_peak_sustained_elapsed
+    metrics=$metrics,launch__registers_per_thread,launch__grid_size
+    for variant in megakernel persistent; do # one sample of Sponza at 1920x1080, the image only
+      step "profile_ch11_$variant" ncu --kernel-name-base demangled --kernel-name \
+        regex:"MegakernelPixel<rt::ch06::Spec|persistent_paths_kernel<rt::ch06::Spec" \
+        --launch-count 1 --csv --metrics "$metrics" "$ch11" --backend gpu --headless \
+        --scene "$models/sponza-dabrovic.obj.gz" --sun 0.3,1,0.2 --sky 0.5 --width 1920 \
+        --height 1080 --image-only --spp 1 --variant $variant --output "$logdir/ch11_$variant.png"
+    done
+  fi
 fi
 # Chapter 08's kernels as the GPU runs them: load instructions per kernel, and cache hit rates.
 if wanted sass && [ -x build/native/bin/ch08_texture_memory ]; then
