@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs chapters 02 to 10 in a real window and checks each screenshot against the
+# Runs chapters 02 to 11 in a real window and checks each screenshot against the
 # headless output of the same frame, pixel for pixel (same pixels give byte-identical PNGs).
 #   tools/window-test.sh BUILD_DIR OUT_DIR [PATH...]    (paths: interop copy cpu; default cpu)
 #   tools/window-test.sh BUILD_DIR OUT_DIR --model FILE  (a model file in the viewers of the
@@ -35,12 +35,14 @@ if [ "${1:-}" = --model ]; then
   model="$2"
   name=$(basename "$model" .obj.gz)
   for chapter in ch06_lambertian_shading ch07_bvh ch08_texture_memory ch09_wide_bvh \
-    ch10_gpu_build; do
+    ch10_gpu_build ch11_path_tracing; do
     [ -x "$build/bin/$chapter" ] || continue
+    extra=()
+    [ "$chapter" = ch11_path_tracing ] && extra=(--spp 5) # the window's 5 frames: 5 samples
     "$build/bin/$chapter" --window --backend gpu --frames 5 --width 320 --height 181 \
       --scene "$model" --output "$out/window-$chapter-$name.png" --json "$out/window-$chapter-$name.json"
     "$build/bin/$chapter" --headless --backend gpu --image-only --width 320 --height 181 \
-      --scene "$model" --output "$out/headless-$chapter-$name.png" >/dev/null
+      --scene "$model" "${extra[@]}" --output "$out/headless-$chapter-$name.png" >/dev/null
     compare "$chapter $name" "$out/window-$chapter-$name.png" "$out/headless-$chapter-$name.png"
   done
   exit $status
@@ -55,7 +57,7 @@ for path in "${paths[@]}"; do
   # Chapters 03 and 04 open the interactive viewer: interop on the GPU, upload on the CPU.
   [ "$path" = copy ] && continue
   for chapter in ch03_spheres ch04_moller_trumbore ch05_obj_loading ch06_lambertian_shading \
-    ch07_bvh ch08_texture_memory ch09_wide_bvh ch10_gpu_build; do
+    ch07_bvh ch08_texture_memory ch09_wide_bvh ch10_gpu_build ch11_path_tracing; do
     [ -x "$build/bin/$chapter" ] || continue
     extra=()
     scene=()
@@ -65,6 +67,8 @@ for path in "${paths[@]}"; do
     [ "$chapter" = ch08_texture_memory ] && extra=(--image-only)
     [ "$chapter" = ch09_wide_bvh ] && extra=(--image-only)
     [ "$chapter" = ch10_gpu_build ] && extra=(--image-only)
+    # A frame in the window adds a sample: the headless image of 10 samples is its twin.
+    [ "$chapter" = ch11_path_tracing ] && extra=(--image-only --spp 10)
     if [ "$chapter" = ch05_obj_loading ]; then # the small room: brute force on 100k is slow
       scene=(--scene "$(dirname "$0")/../assets/cornell_room.obj.gz")
       extra=(--scaling-max -1)
