@@ -1,7 +1,8 @@
 // Chapter 10 tests on the GPU: the same passes on CUDA threads give the CPU threads' tree bit
 // for bit (nodes, their order, the triangle copies and ids), the LBVH of both code widths and
 // PLOC, on random scenes, on equal codes and on the chain that makes 63-bit codes fall back;
-// the GPU refit gives the CPU refit's boxes, on a bent mesh and on the moving scene's frames.
+// the GPU refit gives the CPU refit's boxes, on a bent mesh and on the moving scene's frames;
+// the GPU's collapse to the 4-wide tree is the CPU's, nodes and triangle records.
 #include <vector>
 
 #include "rt_catch.h"
@@ -11,8 +12,10 @@
 #include "build_cases.h"
 #include "builders.h"
 #include "check_bvh.h"
+#include "collapse.h"
 #include "gpu_build.h"
 #include "gpu_guard.h"
+#include "wide_collapse.h"
 
 using namespace rt;
 using namespace rt::ch10;
@@ -80,5 +83,23 @@ TEST_CASE("the moving scene's frames: GPU builds and refits are the CPU's", "[ch
     refit_bvh(Backend::cpu, on_cpu, later);
     CHECK(ch07::check_bvh(on_gpu, later).empty());
     check_same_tree(on_gpu, on_cpu);
+  }
+}
+
+TEST_CASE("the GPU's collapse to the 4-wide tree is the CPU's, bit for bit", "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const std::vector<Mesh> meshes = {rt::testing::mixed_scene(20000, 73),
+                                    identical_triangles(3000), power_of_two_chain(4096),
+                                    rt::testing::single_triangle()};
+  for (const Mesh& mesh : meshes) {
+    for (const Builder builder : {Builder::lbvh, Builder::ploc}) {
+      CAPTURE(mesh.triangles.size(), to_string(builder));
+      const ch07::Bvh binary = build_tree(builder, Backend::cpu, mesh).bvh;
+      const ch09::Wide4PackedBvh gpu = collapse_to_wide4(Backend::gpu, binary);
+      const ch09::Wide4PackedBvh cpu = collapse_to_wide4(Backend::cpu, binary);
+      CHECK(ch09::check_wide_tree(gpu, mesh).empty());
+      CHECK(rt::testing::same_bits(gpu.nodes, cpu.nodes));
+      CHECK(rt::testing::same_bits(gpu.triangles, cpu.triangles));
+    }
   }
 }
