@@ -240,6 +240,7 @@ TreeArrays upload_tree(Backend backend, const ch07::Bvh& bvh) {
   tree.parents = BackendArray<int>(backend, bvh.nodes.size());
   tree.triangles = BackendArray<TriangleF>(backend, std::span<const TriangleF>(bvh.triangles));
   tree.triangle_ids = BackendArray<int>(backend, std::span<const int>(bvh.triangle_ids));
+  tree.arrivals = BackendArray<unsigned>(backend, bvh.nodes.size());
   for_each_index(backend, static_cast<int>(bvh.nodes.size()),
                  LinkParents{tree.nodes.data(), tree.parents.data()});
   return tree;
