@@ -140,9 +140,10 @@ TEST_CASE("program: the moving scene, rebuilt and refitted, its frames in a CSV"
   std::ifstream in(csv);
   std::string header, line;
   std::getline(in, header);
-  CHECK(header == "frame,rebuild_animate_ms,rebuild_tree_ms,rebuild_collapse_ms,"
-                  "rebuild_trace_ms,rebuild_wall_ms,rebuild_sah_cost,refit_animate_ms,"
-                  "refit_tree_ms,refit_collapse_ms,refit_trace_ms,refit_wall_ms,refit_sah_cost");
+  CHECK(header ==
+        "frame,rebuild_animate_ms,rebuild_tree_ms,rebuild_collapse_ms,"
+        "rebuild_trace_ms,rebuild_wall_ms,rebuild_sah_cost,refit_animate_ms,"
+        "refit_tree_ms,refit_collapse_ms,refit_trace_ms,refit_wall_ms,refit_sah_cost");
   int lines = 0;
   while (std::getline(in, line)) ++lines;
   CHECK(lines == 3);
