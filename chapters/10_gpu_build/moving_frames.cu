@@ -83,7 +83,10 @@ struct MovingFrames::State {
   Backend backend;
   Builder builder;
   int detail, sphere_vertices;
-  ch06::ShadedScene scene; // at time 0: triangles, materials, lights; the vertices move
+  // At time 0: triangles, materials, lights (placed for the first frame's bounds, and kept);
+  // the vertices move. Its vertex normals would not follow them, so the frames are shaded
+  // with each triangle's own normal (and shadows).
+  ch06::ShadedScene scene;
   unsigned features;
   BackendArray<Vec3f> rest, vertices;
   BackendArray<IndexedTriangle> triangles;
@@ -98,7 +101,7 @@ struct MovingFrames::State {
         std::vector<Vec3f> rest_pose)
       : backend(b), builder(which), detail(d), sphere_vertices(per_sphere),
         scene(ch06::scene_from_obj(start, {})),
-        features(ch06::features_used(scene, true, true)),
+        features(ch06::features_used(scene, false, true)),
         rest(b, std::span<const Vec3f>(rest_pose)),
         vertices(b, std::span<const Vec3f>(scene.mesh.vertices)),
         triangles(b, std::span<const IndexedTriangle>(scene.mesh.triangles)), lbvh(b, mesh()),

@@ -34,8 +34,8 @@ public:
   MovingFrames& operator=(const MovingFrames&) = delete;
 
   // The scene at `time`: vertices moved, the tree rebuilt (or, for refit after a first
-  // build, refitted), collapsed, and chapter 06's shaded frame traced into `pixels` (backend
-  // memory), waited for.
+  // build, refitted), collapsed, and chapter 06's shaded frame (flat normals, shadows) traced
+  // into `pixels` (backend memory), waited for.
   FrameParts frame(double time, Update update, const ch03::Camera<float>& camera, Extent extent,
                    Rgba8* pixels);
 
