@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "bvh_build.h"
+#include "octant_slots.h"
 #include "rt/error.h"
 
 namespace rt::ch09 {
@@ -189,41 +190,6 @@ Picks greedy_children(const std::vector<Entry>& entries, int n, int width) {
 }
 // [/listing:greedy_collapse]
 
-// [listing:octant_slots]
-// Slot s is meant for rays whose direction has the signs of octant s (bit 0: x negative, bit 1:
-// y, bit 2: z): they should visit first the child whose centre lies furthest back along their
-// direction. A child's cost in slot s is the offset of its centre from the node's centre,
-// projected on the octant's diagonal; pairs are taken cheapest first, each child and each slot
-// once (the paper's greedy assignment). Rays of octant o then visit slot o first, and the
-// other slots in the order s ^ o = 1, 2, 3, ... (wide_traverse.h).
-std::array<int, k_slots> assign_slots(const Aabb& node, const std::vector<Aabb>& boxes) {
-  struct Candidate {
-    double cost;
-    int child, slot;
-  };
-  const Vec3d centre = 0.5 * (node.lo.as<double>() + node.hi.as<double>());
-  std::vector<Candidate> candidates;
-  for (int c = 0; c < static_cast<int>(boxes.size()); ++c) {
-    const Vec3d offset = 0.5 * (boxes[c].lo.as<double>() + boxes[c].hi.as<double>()) - centre;
-    for (int s = 0; s < k_slots; ++s) {
-      const Vec3d diagonal{s & 1 ? -1.0 : 1.0, s & 2 ? -1.0 : 1.0, s & 4 ? -1.0 : 1.0};
-      candidates.push_back({dot(offset, diagonal), c, s});
-    }
-  }
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
-  std::array<int, k_slots> slot_of;
-  slot_of.fill(-1);
-  bool slot_taken[k_slots] = {};
-  for (const Candidate& k : candidates) {
-    if (slot_of[k.child] >= 0 || slot_taken[k.slot]) continue;
-    slot_of[k.child] = k.slot;
-    slot_taken[k.slot] = true;
-  }
-  return slot_of;
-}
-// [/listing:octant_slots]
-
 // Lays the chosen children out, depth first: a node's interior children get consecutive
 // nodes, its leaves consecutive triangles, both in slot order.
 class Layout {
@@ -239,7 +205,8 @@ public:
                   " is beyond the traversal stack's bound");
     std::vector<Aabb> boxes;
     for (const Pick& p : picks) boxes.push_back(entries_[p.entry].box);
-    const std::array<int, k_slots> slot_of = assign_slots(out_.nodes[node].box, boxes);
+    int slot_of[k_slots];
+    assign_slots(out_.nodes[node].box, boxes.data(), static_cast<int>(boxes.size()), slot_of);
     int in_slot[k_slots];
     std::fill(std::begin(in_slot), std::end(in_slot), -1);
     for (int c = 0; c < static_cast<int>(picks.size()); ++c) in_slot[slot_of[c]] = c;

@@ -11,4 +11,10 @@ void render_wide_shaded(Backend backend, unsigned features, const CompressedScen
   ch07::render_shaded_through(backend, features, scene, camera, extent, pixels, records);
 }
 
+void render_wide_shaded(Backend backend, unsigned features, const Wide4PackedSceneView& scene,
+                        const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
+                        ch06::ShadedPixelRecord* records) {
+  ch07::render_shaded_through(backend, features, scene, camera, extent, pixels, records);
+}
+
 } // namespace rt::ch09

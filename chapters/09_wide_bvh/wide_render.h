@@ -1,5 +1,5 @@
 // Chapter 09: shaded frames (chapter 06's shading, as in chapters 07 and 08) traced through
-// the compressed wide tree, on either backend.
+// the compressed wide tree or the 4-wide packed one, on either backend.
 #pragma once
 
 #include "rt/backend.h"
@@ -10,6 +10,9 @@ namespace rt::ch09 {
 
 // `scene` holds device pointers on the GPU backend and host pointers on the CPU.
 void render_wide_shaded(Backend backend, unsigned features, const CompressedSceneView& scene,
+                        const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
+                        ch06::ShadedPixelRecord* records = nullptr);
+void render_wide_shaded(Backend backend, unsigned features, const Wide4PackedSceneView& scene,
                         const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
                         ch06::ShadedPixelRecord* records = nullptr);
 

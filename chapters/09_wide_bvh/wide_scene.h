@@ -39,12 +39,15 @@ RT_HD ch04::Triangle<T> triangle_as(const WideGeometryOf<Tree>& g, int i) {
   return ch06::triangle_as<T>(g.mesh, i);
 }
 
-// The image's tree: the compressed one.
-using CompressedSceneView = ch06::SceneViewOf<WideGeometryOf<WideTreeView<CompressedNode>>>;
+// The image's tree: the compressed one; and the 4-wide packed one, which chapter 10 builds
+// on the GPU.
+template <class Tree> using WideSceneViewOf = ch06::SceneViewOf<WideGeometryOf<Tree>>;
+using CompressedSceneView = WideSceneViewOf<WideTreeView<CompressedNode>>;
+using Wide4PackedSceneView = WideSceneViewOf<Wide4PackedBvh::View>;
 
 // Chapter 06's scene view with the tree added.
-inline CompressedSceneView with_wide(const ch06::SceneView& scene,
-                                     const WideTreeView<CompressedNode>& tree) {
+template <class Tree>
+WideSceneViewOf<Tree> with_wide(const ch06::SceneView& scene, const Tree& tree) {
   return {{tree, scene.mesh},   scene.material, scene.normals,
           scene.normal_indices, scene.palette,  scene.lights};
 }

@@ -20,8 +20,9 @@ namespace rt::ch10 {
 
 // The scene at `time` (seconds): the rippling torus of detail^2 triangles (detail segments
 // around, detail / 2 across, two triangles each), four orbiting icospheres and the floor.
-// Every time gives the same triangles in the same order, only the vertices move. Throws
-// InputError for a detail outside 8..4096.
+// Every time gives the same triangles in the same order, only the vertices move. The reference
+// of the frames made on the backend (moving_frames.h). Throws InputError for a detail outside
+// 8..4096.
 ch05::ObjMesh moving_scene_at(double time, int detail);
 
 // A camera that sees the whole animation.
@@ -39,13 +40,15 @@ struct AnimationOptions {
   int frames = 60;
   double seconds_per_frame = 1.0 / 30.0;
   int detail = 316; // about 100k triangles in the torus
-  Extent extent{1280, 720};
+  Extent extent{1920, 1080};
 };
 
-// One frame of one update: the tree's time (build or refit), the shaded frame's, and the tree's
-// SAH cost.
+// One frame of one update, made on the backend (moving_frames.h): the vertices moved, the tree
+// built or refitted, collapsed to 4-wide, and the shaded frame traced through it (GPU: CUDA
+// events between the parts; CPU: wall time); the whole frame's wall time; and the binary
+// tree's SAH cost.
 struct FrameFigures {
-  double tree_ms = 0, trace_ms = 0, sah_cost = 0;
+  double animate_ms = 0, tree_ms = 0, collapse_ms = 0, trace_ms = 0, wall_ms = 0, sah_cost = 0;
 };
 
 struct AnimationResult {
@@ -56,8 +59,8 @@ struct AnimationResult {
 
 AnimationResult run_animation(const AnimationOptions& options);
 
-// The figures as CSV, one line per frame: frame, then tree ms, trace ms and SAH cost of each
-// update, in the options' order.
+// The figures as CSV, one line per frame: frame, then animate, tree, collapse, trace and wall
+// ms and the SAH cost of each update, in the options' order.
 std::string animation_csv(const AnimationOptions& options, const AnimationResult& result);
 
 } // namespace rt::ch10

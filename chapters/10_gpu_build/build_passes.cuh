@@ -88,6 +88,19 @@ struct GatherTriangles {
   RT_HD void operator()(int k) const { triangles[k] = mesh.triangle(ids[k]); }
 };
 
+// Parent links of a tree in chapter 07's layout (the refit of a tree this chapter did not
+// build).
+struct LinkParents {
+  const BvhNode* nodes;
+  int* parents;
+  RT_HD void operator()(int i) const {
+    for (int c = 0; c < 2; ++c)
+      if (!nodes[i].is_leaf(c) && nodes[i].first[c] >= 0)
+        parents[nodes[i].first[c]] = 2 * i + c;
+    if (i == 0) parents[0] = -1;
+  }
+};
+
 struct RefitNodes {
   RefitView tree;
   RT_HD void operator()(int i) const { refit_node(tree, i); }
@@ -193,22 +206,22 @@ inline std::size_t device_bytes_per_triangle() {
 // kernels only.
 template <class Code> struct MortonOrder {
   int n;
-  MeshArrays mesh;
+  MeshView mesh; // where the backend reads it
   BackendArray<Aabb> boxes;
   BackendArray<Aabb> centroids, centroid_bounds;
   BackendArray<Code> codes, sorted_codes;
   BackendArray<int> ids, sorted_ids;
   BackendArray<unsigned char> scratch;
 
-  MortonOrder(Backend backend, const ch04::Mesh& m)
-      : n(static_cast<int>(m.triangles.size())), mesh(backend, m), boxes(backend, n),
-        centroids(backend, n), centroid_bounds(backend, 1), codes(backend, n),
-        sorted_codes(backend, n), ids(backend, n), sorted_ids(backend, n),
+  MortonOrder(Backend backend, MeshView m)
+      : n(m.triangle_count), mesh(m), boxes(backend, n), centroids(backend, n),
+        centroid_bounds(backend, 1), codes(backend, n), sorted_codes(backend, n),
+        ids(backend, n), sorted_ids(backend, n),
         scratch(backend, backend == Backend::gpu ? cub_scratch_bytes<Code>(n) : 0),
         backend_(backend) {}
 
   void sort() {
-    for_each_index(backend_, n, BoxTriangles{mesh.view(), boxes.data(), centroids.data()});
+    for_each_index(backend_, n, BoxTriangles{mesh, boxes.data(), centroids.data()});
     reduce_bounds(backend_, centroids, centroid_bounds, scratch);
     for_each_index(
         backend_, n,

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <utility>
 
@@ -88,52 +89,61 @@ struct WriteLayout {
   }
 };
 
-// Parent links of a tree in chapter 07's layout (the refit of a tree this chapter did not
-// build).
-struct LinkParents {
-  const BvhNode* nodes;
-  int* parents;
-  RT_HD void operator()(int i) const {
-    for (int c = 0; c < 2; ++c)
-      if (!nodes[i].is_leaf(c) && nodes[i].first[c] >= 0)
-        parents[nodes[i].first[c]] = 2 * i + c;
-    if (i == 0) parents[0] = -1;
+// The LBVH's arrays for a mesh where the backend reads it, made once; build() runs the passes
+// into `tree`, as often as the vertices move.
+template <class Code> struct LbvhPasses {
+  int n;
+  MortonOrder<Code> order;
+  BackendArray<int> parents, index, too_deep;
+  BackendArray<KarrasNode> karras;
+  TreeArrays tree;
+
+  LbvhPasses(Backend backend, MeshView mesh)
+      : n(mesh.triangle_count), order(backend, mesh), parents(backend, n - 1),
+        index(backend, n - 1), too_deep(backend, 1), karras(backend, n - 1),
+        tree(backend, n - 1, n), backend_(backend) {}
+
+  // False when the tree is deeper than the traversal stack allows; only looked at (a wait on
+  // the GPU) with check_depth, which 30-bit codes do not need (see the depth proof below).
+  bool build(bool check_depth) {
+    too_deep.fill_bytes(0);
+    order.sort();
+    for_each_index(
+        backend_, n - 1,
+        BuildHierarchy<Code>{order.sorted_codes.data(), n, karras.data(), parents.data()});
+    for_each_index(
+        backend_, n - 1,
+        PlaceDepthFirst{karras.data(), parents.data(), index.data(), too_deep.data()});
+    if (check_depth && too_deep.to_host()[0] != 0) return false;
+    for_each_index(
+        backend_, n - 1,
+        WriteLayout{karras.data(), index.data(), tree.nodes.data(), tree.parents.data()});
+    for_each_index(backend_, n,
+                   GatherTriangles{order.mesh, order.sorted_ids.data(), tree.triangles.data()});
+    box_bottom_up(backend_, tree.nodes, tree.parents, tree.triangles, tree.arrivals);
+    // The sorted numbers become the tree's ids; the next sort writes into the old ids.
+    std::swap(tree.triangle_ids, order.sorted_ids);
+    return true;
   }
+
+private:
+  Backend backend_;
 };
 
 // The whole LBVH from codes of type Code; nothing when the tree is deeper than the traversal
 // stack allows.
 template <class Code>
 std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh) {
-  const int n = static_cast<int>(mesh.triangles.size());
-  MortonOrder<Code> order(backend, mesh);
-  BackendArray<int> parents(backend, n - 1), index(backend, n - 1), out_parents(backend, n - 1),
-      too_deep(backend, 1);
-  BackendArray<KarrasNode> karras(backend, n - 1);
-  BackendArray<BvhNode> nodes(backend, n - 1);
-  BackendArray<TriangleF> triangles(backend, n);
-  BackendArray<unsigned> arrivals(backend, n - 1);
-  too_deep.fill_bytes(0);
-
+  MeshArrays d_mesh(backend, mesh);
+  LbvhPasses<Code> lbvh(backend, d_mesh.view());
   PassClock clock(backend);
-  order.sort();
-  for_each_index(
-      backend, n - 1,
-      BuildHierarchy<Code>{order.sorted_codes.data(), n, karras.data(), parents.data()});
-  for_each_index(backend, n - 1,
-                 PlaceDepthFirst{karras.data(), parents.data(), index.data(), too_deep.data()});
-  if (too_deep.to_host()[0] != 0) return std::nullopt;
-  for_each_index(backend, n - 1,
-                 WriteLayout{karras.data(), index.data(), nodes.data(), out_parents.data()});
-  for_each_index(backend, n,
-                 GatherTriangles{order.mesh.view(), order.sorted_ids.data(), triangles.data()});
-  box_bottom_up(backend, nodes, out_parents, triangles, arrivals);
+  if (!lbvh.build(true)) return std::nullopt;
   GpuBuild build;
   build.build_ms = clock.milliseconds();
   build.codes = sizeof(Code) == 4 ? CodeWidth::bits30 : CodeWidth::bits63;
-  build.bvh.nodes = nodes.to_host();
-  build.bvh.triangles = triangles.to_host();
-  build.bvh.triangle_ids = order.sorted_ids.to_host();
+  build.bvh.nodes = lbvh.tree.nodes.to_host();
+  build.bvh.triangles = lbvh.tree.triangles.to_host();
+  build.bvh.triangle_ids = lbvh.tree.triangle_ids.to_host();
   build.bvh.bounds = root_bounds(build.bvh);
   return build;
 }
@@ -181,6 +191,24 @@ GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes) {
   build.bvh.stats.build_ms = build.build_ms;
   fill_stats(build.bvh);
   return build;
+}
+
+struct LbvhOnBackend::Passes : LbvhPasses<std::uint32_t> {
+  using LbvhPasses::LbvhPasses;
+};
+
+LbvhOnBackend::LbvhOnBackend(Backend backend, ch04::MeshView mesh) {
+  if (mesh.triangle_count < 2) throw InputError("an LBVH on the backend needs two triangles");
+  passes_ = std::make_unique<Passes>(backend, mesh);
+}
+LbvhOnBackend::~LbvhOnBackend() = default;
+void LbvhOnBackend::build() { passes_->build(false); }
+TreeArrays& LbvhOnBackend::tree() { return passes_->tree; }
+
+void refit_tree(Backend backend, TreeArrays& tree, ch04::MeshView mesh) {
+  for_each_index(backend, mesh.triangle_count,
+                 GatherTriangles{mesh, tree.triangle_ids.data(), tree.triangles.data()});
+  box_bottom_up(backend, tree.nodes, tree.parents, tree.triangles, tree.arrivals);
 }
 
 double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {

@@ -4,12 +4,14 @@
 // chapter 07's checker, traversal and runner, and chapter 09's collapse, take them unchanged.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "bvh.h"
 #include "mesh_gen.h"
 #include "morton.h"
 #include "rt/backend.h"
+#include "tree_arrays.h"
 
 namespace rt::ch10 {
 
@@ -27,6 +29,22 @@ struct GpuBuild {
 // proves it); GpuBuild::note says so. Throws InputError as ch07::check_build_input does, and
 // when the GPU lacks the memory for the build.
 GpuBuild build_lbvh(Backend backend, const ch04::Mesh& mesh, CodeWidth codes);
+
+// The LBVH of 30-bit codes of a mesh that stays where the backend reads it (backend
+// pointers; at least two triangles; its vertices may move between builds): the arrays are made
+// once, and each build() runs the passes alone, its tree left on the backend (on the GPU,
+// queued and not waited for). The tree is build_lbvh's for the same mesh.
+class LbvhOnBackend {
+public:
+  LbvhOnBackend(Backend backend, ch04::MeshView mesh);
+  ~LbvhOnBackend();
+  void build();
+  TreeArrays& tree();
+
+private:
+  struct Passes;
+  std::unique_ptr<Passes> passes_;
+};
 
 // PLOC's search radius: each cluster looks for its nearest neighbour among this many clusters
 // on either side of it in Morton order.

@@ -50,8 +50,9 @@ std::vector<Builder> measured(const ChapterOptions& options) {
 BuildSink keep_builds(Report& report, std::vector<std::pair<Builder, BuiltTree>>& builds) {
   return [&report, &builds](const std::string& scene, Builder builder, const BuiltTree& tree) {
     report.add_row(build_row(scene, builder, tree));
-    builds.push_back(
-        {builder, {ch07::Bvh{{}, {}, {}, {}, {}, tree.bvh.stats}, tree.backend, tree.note}});
+    builds.push_back({builder,
+                      {ch07::Bvh{{}, {}, {}, {}, {}, tree.bvh.stats}, tree.backend, tree.note,
+                       tree.collapse_ms}});
   };
 }
 

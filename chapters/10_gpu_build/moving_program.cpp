@@ -5,13 +5,9 @@
 #include <iostream>
 #include <optional>
 
-#include "bvh_render.h"
-#include "bvh_trace.h"
-#include "gpu_build.h"
+#include "moving_frames.h"
 #include "rt/output_file.h"
 #include "rt/program_output.h"
-#include "shaded_render.h"
-#include "shaded_scene.h"
 
 namespace rt::ch10 {
 namespace {
@@ -23,8 +19,10 @@ void print_frames(const AnimationOptions& animation, const AnimationResult& resu
     for (std::size_t u = 0; u < animation.updates.size(); ++u) {
       const FrameFigures& f = result.frames[u][frame];
       std::cout << (u == 0 ? ": " : "; ") << to_string(animation.updates[u]) << " "
-                << format_fixed(f.tree_ms, 2) << " ms + frame " << format_fixed(f.trace_ms, 2)
-                << " ms, SAH cost " << format_fixed(f.sah_cost, 1);
+                << format_fixed(f.tree_ms, 2) << " ms + collapse "
+                << format_fixed(f.collapse_ms, 2) << " ms + frame "
+                << format_fixed(f.trace_ms, 2) << " ms, SAH cost "
+                << format_fixed(f.sah_cost, 1);
     }
     std::cout << "\n";
   }
@@ -35,53 +33,48 @@ void add_rows(Report& report, const AnimationOptions& animation,
               const AnimationResult& result) {
   for (std::size_t u = 0; u < animation.updates.size(); ++u) {
     const std::vector<FrameFigures>& frames = result.frames[u];
-    double tree = 0, trace = 0;
-    for (const FrameFigures& f : frames) tree += f.tree_ms, trace += f.trace_ms;
-    const double n = double(frames.size()), ms = (tree + trace) / n;
+    double animate = 0, tree = 0, collapse = 0, trace = 0, wall = 0;
+    for (const FrameFigures& f : frames) {
+      animate += f.animate_ms, tree += f.tree_ms, collapse += f.collapse_ms;
+      trace += f.trace_ms, wall += f.wall_ms;
+    }
+    const double n = double(frames.size()), ms = (animate + tree + collapse + trace) / n;
     const double growth = frames.back().sah_cost / frames[0].sah_cost;
     report.add_row(
         {std::string(to_string(animation.builder)) + ", " + to_string(animation.updates[u]),
          to_string(animation.backend),
          ms,
          double(animation.extent.pixel_count()) / (ms * 1e3),
-         format_fixed(tree / n, 2) + " ms tree + " + format_fixed(trace / n, 2) +
-             " ms frame; SAH cost x" + format_fixed(growth, 3) + " by the last frame",
-         {{"tree_ms", tree / n}, {"trace_ms", trace / n}, {"sah_growth", growth}}});
+         format_fixed(animate / n, 2) + " ms animate + " + format_fixed(tree / n, 2) +
+             " ms tree + " + format_fixed(collapse / n, 2) + " ms collapse + " +
+             format_fixed(trace / n, 2) + " ms frame; " + format_fixed(1e3 * n / wall, 0) +
+             " frames/s wall clock; SAH cost x" + format_fixed(growth, 3) +
+             " by the last frame",
+         {{"animate_ms", animate / n},
+          {"tree_ms", tree / n},
+          {"collapse_ms", collapse / n},
+          {"trace_ms", trace / n},
+          {"wall_fps", 1e3 * n / wall},
+          {"sah_growth", growth}}});
   }
 }
 
-// The window's frames: each one a step of the animation, its tree updated as the first of the
-// options' updates says, and chapter 06's shaded frame through it.
+// The window's frames: each one a step of the animation made on the backend (moving_frames.h),
+// its tree updated as the first of the options' updates says.
 class WindowAnimation {
 public:
   explicit WindowAnimation(const AnimationOptions& options) : options_(options) {}
 
   void render(Backend backend, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
-    const ch06::ShadedScene scene = ch06::scene_from_obj(
-        moving_scene_at(frame_++ * options_.seconds_per_frame, options_.detail), {});
-    if (!tree_ || options_.updates.front() == Update::rebuild) {
-      tree_ = build_tree(options_.builder, backend, scene.mesh).bvh;
-    } else {
-      refit_bvh(backend, *tree_, scene.mesh);
-    }
-    const unsigned features = ch06::features_used(scene, true, true);
-    const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
-    if (backend == Backend::cpu) {
-      ch07::render_bvh_shaded(backend, features,
-                              ch07::with_bvh(ch06::host_view(scene, features), tree_->view()),
-                              camera, extent, pixels);
-      return;
-    }
-    const ch06::DeviceShadedScene d_scene(scene, features);
-    const ch07::DeviceBvh d_tree(*tree_);
-    ch07::render_bvh_shaded(backend, features, ch07::with_bvh(d_scene.view(), d_tree.view()),
-                            camera, extent, pixels);
+    if (!frames_) frames_.emplace(backend, options_.builder, options_.detail);
+    frames_->frame(frame_++ * options_.seconds_per_frame, options_.updates.front(),
+                   ch03::make_camera<float>(spec, extent), extent, pixels);
   }
 
 private:
   const AnimationOptions& options_;
   int frame_ = 0;
-  std::optional<ch07::Bvh> tree_;
+  std::optional<MovingFrames> frames_;
 };
 
 } // namespace
@@ -90,7 +83,7 @@ int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving
                        Backend backend) {
   AnimationOptions& animation = moving.animation;
   animation.backend = backend;
-  animation.extent = program.common.extent();
+  animation.extent = program.size_given() ? program.common.extent() : animation.extent;
   if (program.common.frames > 0) animation.frames = program.common.frames;
   if (!moving.csv_path.empty()) check_output_path(moving.csv_path, "--animation-csv");
   const std::string builder = to_string(animation.builder);

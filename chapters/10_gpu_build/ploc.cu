@@ -258,7 +258,8 @@ void cluster(Backend backend, PlocArrays& a, int n, int radius) {
 
 std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int radius) {
   const int n = static_cast<int>(mesh.triangles.size());
-  MortonOrder<std::uint32_t> order(backend, mesh);
+  MeshArrays d_mesh(backend, mesh);
+  MortonOrder<std::uint32_t> order(backend, d_mesh.view());
   PlocArrays a(backend, n);
   BackendArray<int> index(backend, n - 1), slot(backend, n), out_parents(backend, n - 1),
       triangle_ids(backend, n), too_deep(backend, 1);
@@ -279,9 +280,9 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
                  PlacePloc{tree, index.data(), slot.data(), too_deep.data()});
   if (too_deep.to_host()[0] != 0) return std::nullopt;
   for_each_index(backend, n - 1,
-                 WritePloc{tree, index.data(), slot.data(), order.sorted_ids.data(),
-                           order.mesh.view(), nodes.data(), out_parents.data(),
-                           triangles.data(), triangle_ids.data()});
+                 WritePloc{tree, index.data(), slot.data(), order.sorted_ids.data(), order.mesh,
+                           nodes.data(), out_parents.data(), triangles.data(),
+                           triangle_ids.data()});
   box_bottom_up(backend, nodes, out_parents, triangles, arrivals);
   GpuBuild build;
   build.build_ms = clock.milliseconds();

@@ -1,7 +1,9 @@
 // Chapter 10 tests on the GPU: the same passes on CUDA threads give the CPU threads' tree bit
 // for bit (nodes, their order, the triangle copies and ids), the LBVH of both code widths and
 // PLOC, on random scenes, on equal codes and on the chain that makes 63-bit codes fall back;
-// the GPU refit gives the CPU refit's boxes, on a bent mesh and on the moving scene's frames.
+// the GPU refit gives the CPU refit's boxes, on a bent mesh and on the moving scene's frames;
+// the GPU's collapse to the 4-wide tree is the CPU's, nodes and triangle records; frames made
+// on the GPU move the vertices as the host reference does, and their trees pass the checkers.
 #include <vector>
 
 #include "rt_catch.h"
@@ -11,8 +13,12 @@
 #include "build_cases.h"
 #include "builders.h"
 #include "check_bvh.h"
+#include "collapse.h"
 #include "gpu_build.h"
 #include "gpu_guard.h"
+#include "moving_frames.h"
+#include "rt/device_buffer.h"
+#include "wide_collapse.h"
 
 using namespace rt;
 using namespace rt::ch10;
@@ -80,5 +86,49 @@ TEST_CASE("the moving scene's frames: GPU builds and refits are the CPU's", "[ch
     refit_bvh(Backend::cpu, on_cpu, later);
     CHECK(ch07::check_bvh(on_gpu, later).empty());
     check_same_tree(on_gpu, on_cpu);
+  }
+}
+
+TEST_CASE("the GPU's collapse to the 4-wide tree is the CPU's, bit for bit", "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const std::vector<Mesh> meshes = {rt::testing::mixed_scene(20000, 73),
+                                    identical_triangles(3000), power_of_two_chain(4096),
+                                    rt::testing::single_triangle()};
+  for (const Mesh& mesh : meshes) {
+    for (const Builder builder : {Builder::lbvh, Builder::ploc}) {
+      CAPTURE(mesh.triangles.size(), to_string(builder));
+      const ch07::Bvh binary = build_tree(builder, Backend::cpu, mesh).bvh;
+      const ch09::Wide4PackedBvh gpu = collapse_to_wide4(Backend::gpu, binary);
+      const ch09::Wide4PackedBvh cpu = collapse_to_wide4(Backend::cpu, binary);
+      CHECK(ch09::check_wide_tree(gpu, mesh).empty());
+      CHECK(rt::testing::same_bits(gpu.nodes, cpu.nodes));
+      CHECK(rt::testing::same_bits(gpu.triangles, cpu.triangles));
+    }
+  }
+}
+
+TEST_CASE("frames made on the GPU: the reference's vertices, trees that pass the checkers",
+          "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const int detail = 128;
+  const Extent extent{64, 36};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(moving_scene_camera(), extent);
+  DeviceBuffer<Rgba8> pixels(extent.pixel_count());
+  for (const Update update : {Update::rebuild, Update::refit}) {
+    MovingFrames frames(Backend::gpu, Builder::lbvh, detail);
+    for (const double time : {0.0, 1.3}) {
+      CAPTURE(to_string(update), time);
+      frames.frame(time, update, camera, extent, pixels.data());
+      ch04::Mesh reference = moving_scene_at(time, detail).geometry;
+      const std::vector<Vec3f> moved = frames.vertices();
+      REQUIRE(moved.size() == reference.vertices.size());
+      float worst = 0.0f;
+      for (std::size_t v = 0; v < moved.size(); ++v)
+        worst = std::max(worst, length(moved[v] - reference.vertices[v]));
+      CHECK(worst < 2e-5f);
+      reference.vertices = moved;
+      CHECK(ch07::check_bvh(frames.binary_tree(), reference).empty());
+      CHECK(ch09::check_wide_tree(frames.wide_tree(), reference).empty());
+    }
   }
 }

@@ -1,5 +1,6 @@
 // Chapter 10 tests of the program itself on the CPU: the report builds with every builder and
-// measures each tree, binary and 4-wide, with chapter 07's hits (in the text and the JSON);
+// measures each tree, binary and 4-wide (chapter 09's collapse and the parallel one), with
+// chapter 07's hits (in the text and the JSON);
 // --builder narrows it; the benchmark mode runs on a small scene; ray files through each tree
 // give brute force's hits; the moving scene writes its frames' figures and image; bad input
 // ends in one error line and a non-zero exit.
@@ -44,10 +45,13 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
   for (const char* type : {"primary", "ao", "diffuse"})
-    for (const char* tree : {"CPU SAH (ch07)", "LBVH", "LBVH 63-bit", "PLOC", "PLOC 4-wide"})
+    for (const char* tree : {"CPU SAH (ch07)", "LBVH", "LBVH 63-bit", "PLOC", "PLOC 4-wide",
+                             "LBVH 4-wide (parallel collapse)"})
       CHECK_THAT(run.output,
                  contains(std::string("cornell_room, ") + type + ", " + tree + " "));
-  CHECK_THAT(run.output, contains("| builder | built on | build ms | SAH cost | depth |"));
+  CHECK_THAT(
+      run.output,
+      contains("| builder | built on | build ms | + 4-wide collapse ms | SAH cost | depth |"));
   CHECK_THAT(run.output, !contains("disagree"));
   CHECK(std::filesystem::file_size(image) > 100);
 
@@ -60,13 +64,14 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
     if (variant.find(", build ") != std::string::npos) {
       CHECK(row.at("metrics").at("sah_cost").get<double>() > 0.0);
       CHECK(row.at("metrics").at("depth").get<double>() <= 63.0);
+      CHECK(row.at("metrics").at("collapse_ms").get<double>() > 0.0);
       ++builds;
       continue;
     }
     CHECK(row.at("metrics").at("differing_from_ch07").get<double>() == 0.0);
     ++traced;
   }
-  CHECK(traced == 24); // 3 ray types x 4 builders x (binary, 4-wide)
+  CHECK(traced == 36); // 3 ray types x 4 builders x (binary, 4-wide, parallel 4-wide)
   CHECK(builds == 4);
 }
 
@@ -135,8 +140,10 @@ TEST_CASE("program: the moving scene, rebuilt and refitted, its frames in a CSV"
   std::ifstream in(csv);
   std::string header, line;
   std::getline(in, header);
-  CHECK(header == "frame,rebuild_tree_ms,rebuild_trace_ms,rebuild_sah_cost,refit_tree_ms,"
-                  "refit_trace_ms,refit_sah_cost");
+  CHECK(header ==
+        "frame,rebuild_animate_ms,rebuild_tree_ms,rebuild_collapse_ms,"
+        "rebuild_trace_ms,rebuild_wall_ms,rebuild_sah_cost,refit_animate_ms,"
+        "refit_tree_ms,refit_collapse_ms,refit_trace_ms,refit_wall_ms,refit_sah_cost");
   int lines = 0;
   while (std::getline(in, line)) ++lines;
   CHECK(lines == 3);

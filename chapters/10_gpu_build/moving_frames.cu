@@ -1,0 +1,196 @@
+// Chapter 10: the moving scene's frames on the backend. See moving_frames.h.
+#include "moving_frames.h"
+
+#include <array>
+#include <chrono>
+#include <optional>
+
+#include "build_passes.cuh"
+#include "builders.h"
+#include "gpu_build.h"
+#include "shaded_render.h"
+#include "shaded_scene.h"
+#include "wide_collapse.h"
+#include "wide_render.h"
+
+namespace rt::ch10 {
+namespace {
+
+using namespace passes;
+
+constexpr float k_pi_f = 3.14159265358979f;
+
+// Each vertex of the scene at `time`, computed alone: the torus's from its place in the grid
+// (moving_scene_at's rippling_torus, in float), the spheres' as their rest offsets around
+// their orbiting centres, the floor's where it rests.
+struct MoveVertices {
+  const Vec3f* rest; // sphere vertices: offsets from the centre; floor: positions
+  int detail;        // the torus: detail * (detail / 2) vertices, first
+  int sphere_vertices;
+  float time;
+  Vec3f* vertices;
+  RT_HD void operator()(int v) const {
+    const int around = detail, across = detail / 2, torus = around * across;
+    if (v < torus) {
+      const float u = 2.0f * k_pi_f * float(v / across) / float(around);
+      const float w = 2.0f * k_pi_f * float(v % across) / float(across);
+      const float tube = 0.55f * (1.0f + 0.25f * sinf(5.0f * u + 3.0f * w - 2.0f * time));
+      const float ring = 2.0f + tube * cosf(w);
+      vertices[v] = {ring * cosf(u), tube * sinf(w), ring * sinf(u)};
+      return;
+    }
+    const int k = (v - torus) / sphere_vertices;
+    if (k < 4) {
+      const float phase = time * (0.6f + 0.15f * float(k)) + float(k) * k_pi_f / 2.0f;
+      const Vec3f centre{3.4f * cosf(phase), 0.9f * sinf(2.0f * phase), 3.4f * sinf(phase)};
+      vertices[v] = centre + rest[v];
+      return;
+    }
+    vertices[v] = rest[v];
+  }
+};
+
+// Marks between a frame's parts: CUDA events on the GPU, the steady clock on the CPU.
+class PartClock {
+public:
+  explicit PartClock(Backend backend) : backend_(backend) {
+    if (backend_ == Backend::gpu)
+      for (std::optional<CudaEvent>& event : events_) event.emplace();
+  }
+  void mark(int i) {
+    if (backend_ == Backend::gpu)
+      events_[i]->record();
+    else
+      wall_[i] = std::chrono::steady_clock::now();
+  }
+  void wait(int last) {
+    if (backend_ == Backend::gpu) events_[last]->synchronize();
+  }
+  double between(int a, int b) const {
+    if (backend_ == Backend::gpu) return events_[b]->milliseconds_since(*events_[a]);
+    return std::chrono::duration<double, std::milli>(wall_[b] - wall_[a]).count();
+  }
+
+private:
+  Backend backend_;
+  std::array<std::optional<CudaEvent>, 5> events_; // the GPU's only
+  std::array<std::chrono::steady_clock::time_point, 5> wall_;
+};
+
+} // namespace
+
+struct MovingFrames::State {
+  Backend backend;
+  Builder builder;
+  int detail, sphere_vertices;
+  // At time 0: triangles, materials, lights (placed for the first frame's bounds, and kept);
+  // the vertices move. Its vertex normals would not follow them, so the frames are shaded
+  // with each triangle's own normal (and shadows).
+  ch06::ShadedScene scene;
+  unsigned features;
+  BackendArray<Vec3f> rest, vertices;
+  BackendArray<IndexedTriangle> triangles;
+  std::optional<ch06::DeviceShadedScene> d_scene;
+  LbvhOnBackend lbvh;
+  WideCollapse collapse;
+  std::optional<TreeArrays> host_built; // another builder's tree, built on the host
+  PartClock clock;
+  bool built = false;
+
+  State(Backend b, Builder which, int d, int per_sphere, const ch05::ObjMesh& start,
+        std::vector<Vec3f> rest_pose)
+      : backend(b), builder(which), detail(d), sphere_vertices(per_sphere),
+        scene(ch06::scene_from_obj(start, {})),
+        features(ch06::features_used(scene, false, true)),
+        rest(b, std::span<const Vec3f>(rest_pose)),
+        vertices(b, std::span<const Vec3f>(scene.mesh.vertices)),
+        triangles(b, std::span<const IndexedTriangle>(scene.mesh.triangles)), lbvh(b, mesh()),
+        collapse(b, mesh().triangle_count), clock(b) {
+    if (b == Backend::gpu) d_scene.emplace(scene, features);
+  }
+
+  TreeArrays& tree() { return host_built ? *host_built : lbvh.tree(); }
+
+  // The tree for the vertices as they are now: the LBVH's passes, or another builder on the
+  // host from the vertices copied there.
+  void build() {
+    if (builder == Builder::lbvh) {
+      lbvh.build();
+      return;
+    }
+    ch04::Mesh now = scene.mesh;
+    now.vertices = vertices.to_host();
+    host_built = upload_tree(backend, build_tree(builder, backend, now).bvh);
+  }
+
+  MeshView mesh() {
+    return {vertices.data(), triangles.data(), static_cast<int>(triangles.size())};
+  }
+  ch06::SceneView scene_view() {
+    ch06::SceneView view = d_scene ? d_scene->view() : ch06::host_view(scene, features);
+    view.mesh = mesh();
+    return view;
+  }
+};
+
+MovingFrames::MovingFrames(Backend backend, Builder builder, int detail) {
+  const ch05::ObjMesh start = moving_scene_at(0.0, detail);
+  // Rest pose: the spheres' vertices as offsets from their centres, the floor as it lies.
+  std::vector<Vec3f> rest = start.geometry.vertices;
+  const std::vector<Vec3f> sphere = ch04::make_icosphere(3, {0.0, 0.0, 0.0}, 0.45).vertices;
+  const std::size_t torus = std::size_t(detail) * (detail / 2);
+  for (int k = 0; k < 4; ++k)
+    std::copy(sphere.begin(), sphere.end(), rest.begin() + torus + k * sphere.size());
+  state_ = std::make_unique<State>(backend, builder, detail, static_cast<int>(sphere.size()),
+                                   start, std::move(rest));
+}
+
+MovingFrames::~MovingFrames() = default;
+
+FrameParts MovingFrames::frame(double time, Update update, const ch03::Camera<float>& camera,
+                               Extent extent, Rgba8* pixels) {
+  State& s = *state_;
+  s.clock.mark(0);
+  for_each_index(
+      s.backend, static_cast<int>(s.vertices.size()),
+      MoveVertices{s.rest.data(), s.detail, s.sphere_vertices, float(time), s.vertices.data()});
+  s.clock.mark(1);
+  if (update == Update::refit && s.built)
+    refit_tree(s.backend, s.tree(), s.mesh());
+  else
+    s.build();
+  s.built = true;
+  s.clock.mark(2);
+  s.collapse.run(s.tree());
+  s.clock.mark(3);
+  ch09::render_wide_shaded(s.backend, s.features,
+                           ch09::with_wide(s.scene_view(), s.collapse.view()), camera, extent,
+                           pixels);
+  s.clock.mark(4);
+  s.clock.wait(4);
+  return {s.clock.between(0, 1), s.clock.between(1, 2), s.clock.between(2, 3),
+          s.clock.between(3, 4)};
+}
+
+std::vector<Vec3f> MovingFrames::vertices() const { return state_->vertices.to_host(); }
+
+ch07::Bvh MovingFrames::binary_tree() const {
+  TreeArrays& tree = state_->tree();
+  ch07::Bvh bvh;
+  bvh.nodes = tree.nodes.to_host();
+  bvh.triangles = tree.triangles.to_host();
+  bvh.triangle_ids = tree.triangle_ids.to_host();
+  bvh.bounds = root_bounds(bvh);
+  bvh.options.method = ch07::SplitMethod::median;
+  bvh.options.max_leaf_size = 1;
+  fill_stats(bvh);
+  return bvh;
+}
+
+ch09::Wide4PackedBvh MovingFrames::wide_tree() const { return state_->collapse.to_host(); }
+
+long long MovingFrames::triangles() const {
+  return static_cast<long long>(state_->triangles.size());
+}
+
+} // namespace rt::ch10

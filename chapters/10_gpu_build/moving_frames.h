@@ -1,0 +1,53 @@
+// Chapter 10: the moving scene's frames made where they are traced. The rest pose goes to the
+// backend once; each frame a pass moves the vertices, the LBVH is built from them (or last
+// frame's tree refitted), collapsed to chapter 09's 4-wide packed tree and the shaded frame
+// traced through it, without a trip to the host. moving_scene_at stays the reference.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "animation.h"
+#include "builders.h"
+#include "bvh.h"
+#include "camera.h"
+#include "rt/backend.h"
+#include "rt/image.h"
+#include "wide_bvh.h"
+
+namespace rt::ch10 {
+
+// One frame's parts: GPU, CUDA events between them; CPU, wall time.
+struct FrameParts {
+  double animate_ms = 0, tree_ms = 0, collapse_ms = 0, render_ms = 0;
+  double total_ms() const { return animate_ms + tree_ms + collapse_ms + render_ms; }
+};
+
+class MovingFrames {
+public:
+  // The torus scene of `detail` (moving_scene_at's) on the resolved backend, its tree built by
+  // `builder`: the LBVH's passes on the backend; another builder from the vertices copied to
+  // the host, its tree copied back (the refit and the rest stay on the backend).
+  MovingFrames(Backend backend, Builder builder, int detail);
+  ~MovingFrames();
+  MovingFrames(const MovingFrames&) = delete;
+  MovingFrames& operator=(const MovingFrames&) = delete;
+
+  // The scene at `time`: vertices moved, the tree rebuilt (or, for refit after a first
+  // build, refitted), collapsed, and chapter 06's shaded frame (flat normals, shadows) traced
+  // into `pixels` (backend memory), waited for.
+  FrameParts frame(double time, Update update, const ch03::Camera<float>& camera, Extent extent,
+                   Rgba8* pixels);
+
+  // What the last frame made, copied to the host (for reports and tests).
+  std::vector<Vec3f> vertices() const;
+  ch07::Bvh binary_tree() const; // stats filled
+  ch09::Wide4PackedBvh wide_tree() const;
+  long long triangles() const;
+
+private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+} // namespace rt::ch10

@@ -1,0 +1,363 @@
+// Chapter 10: the parallel collapse to Wide4PackedBvh, pass by pass. See wide_collapse.h.
+// Every wide node is numbered by exclusive scans over the binary nodes in index order (CUB's on
+// the GPU, std::exclusive_scan on the CPU), not by atomics, so both backends give the same
+// tree bit for bit.
+#include "wide_collapse.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <numeric>
+
+#include <cub/device/device_scan.cuh>
+
+#include "build_passes.cuh"
+#include "collapse.h"
+#include "octant_slots.h"
+#include "rt/error.h"
+
+namespace rt::ch10 {
+namespace {
+
+using namespace passes;
+using ch09::WideNode;
+
+constexpr int k_width = 4;
+
+// What the passes read and write, one entry per binary node unless said otherwise.
+struct CollapseView {
+  const BvhNode* nodes;
+  const int* parents;
+  const TriangleF* triangles; // in the binary tree's leaf order
+  const int* triangle_ids;
+  int* range_first; // the node's triangles are range_first .. range_end - 1
+  int* range_end;
+  int* is_wide;
+  int* interior_counts; // of a wide node: its interior children, and its leaves' triangles
+  int* leaf_counts;
+  const int* interior_offsets; // exclusive scans of the two counts
+  const int* triangle_offsets;
+  int* wide_index; // of a wide node: its number in the wide tree
+  WideNode<k_width>* out_nodes;
+  float2* out_records;
+};
+
+// A child of a wide node: a leaf (node -1) of the triangles first .. first + count - 1, or
+// the wide node made of binary node `node`.
+struct WideChild {
+  Aabb box;
+  int node, first, count;
+};
+
+// A wide node's children in slot order, and the slot of each.
+struct WideChildren {
+  WideChild child[k_width];
+  int slot[k_width];
+  int count = 0;
+};
+
+// Binary child c of node i, as a leaf of the wide tree or opened further (interior = true).
+RT_HD inline WideChild binary_child(const CollapseView& t, const BvhNode& node, int c,
+                                    bool& interior) {
+  interior = false;
+  if (node.is_leaf(c)) return {node.box[c], -1, node.first[c], node.count[c]};
+  const int x = node.first[c];
+  const int first = t.range_first[x], count = t.range_end[x] - first;
+  interior = count > k_wide_leaf_triangles;
+  return {node.box[c], interior ? x : -1, first, count};
+}
+
+// The children of the wide node made of binary node i: its binary children, each covering more
+// than three triangles opened into its own two; then the octant slots, and the children sorted
+// by slot.
+RT_HD inline WideChildren wide_children(const CollapseView& t, int i) {
+  WideChildren out;
+  const BvhNode node = t.nodes[i];
+  for (int c = 0; c < 2; ++c) {
+    if (!node.is_leaf(c) && node.first[c] < 0) continue; // the one-triangle tree's empty side
+    bool open = false;
+    const WideChild child = binary_child(t, node, c, open);
+    if (!open) {
+      out.child[out.count++] = child;
+      continue;
+    }
+    const BvhNode opened = t.nodes[child.node];
+    for (int d = 0; d < 2; ++d) {
+      bool interior = false;
+      out.child[out.count++] = binary_child(t, opened, d, interior);
+    }
+  }
+  Aabb box = node.box[0];
+  box.grow(node.box[1]);
+  Aabb boxes[k_width];
+  for (int c = 0; c < out.count; ++c) boxes[c] = out.child[c].box;
+  ch09::assign_slots(box, boxes, out.count, out.slot);
+  for (int a = 1; a < out.count; ++a) // insertion sort by slot: at most four
+    for (int b = a; b > 0 && out.slot[b - 1] > out.slot[b]; --b) {
+      const WideChild child = out.child[b];
+      out.child[b] = out.child[b - 1];
+      out.child[b - 1] = child;
+      const int slot = out.slot[b];
+      out.slot[b] = out.slot[b - 1];
+      out.slot[b - 1] = slot;
+    }
+  return out;
+}
+
+// Pass 1: each node's triangle range (its leftmost and rightmost leaves, walked down to) and
+// whether it is a wide node: the root, or covering more than three triangles at even depth
+// (walked up to the root).
+struct MeasureNodes {
+  CollapseView t;
+  RT_HD void operator()(int i) const {
+    if (i == 0) {
+      t.is_wide[0] = 1;
+      return;
+    }
+    int left = i, right = i;
+    while (!t.nodes[left].is_leaf(0)) left = t.nodes[left].first[0];
+    while (!t.nodes[right].is_leaf(1)) right = t.nodes[right].first[1];
+    t.range_first[i] = t.nodes[left].first[0];
+    t.range_end[i] = t.nodes[right].first[1] + t.nodes[right].count[1];
+    int depth = 0;
+    for (int x = i; x != 0; x = t.parents[x] >> 1) ++depth;
+    t.is_wide[i] = depth % 2 == 0 && t.range_end[i] - t.range_first[i] > k_wide_leaf_triangles;
+  }
+};
+
+// Pass 2: each wide node's interior children and leaf triangles, counted for the scans.
+struct CountChildren {
+  CollapseView t;
+  RT_HD void operator()(int i) const {
+    int interior = 0, triangles = 0;
+    if (t.is_wide[i]) {
+      const WideChildren children = wide_children(t, i);
+      for (int c = 0; c < children.count; ++c) {
+        if (children.child[c].node >= 0)
+          ++interior;
+        else
+          triangles += children.child[c].count;
+      }
+    }
+    t.interior_counts[i] = interior;
+    t.leaf_counts[i] = triangles;
+  }
+};
+
+// Pass 3: each wide node numbers its interior children, in slot order, from its child_base.
+struct NumberChildren {
+  CollapseView t;
+  RT_HD void operator()(int i) const {
+    if (i == 0) t.wide_index[0] = 0;
+    if (!t.is_wide[i]) return;
+    const WideChildren children = wide_children(t, i);
+    int next = 1 + t.interior_offsets[i];
+    for (int c = 0; c < children.count; ++c)
+      if (children.child[c].node >= 0) t.wide_index[children.child[c].node] = next++;
+  }
+};
+
+// chapter 09's PackedTriangles records of one triangle: five float2, the id's bits in one lane.
+RT_HD inline void write_records(float2* r, const TriangleF& tri, int id) {
+  float id_bits;
+  std::memcpy(&id_bits, &id, sizeof id_bits);
+  r[0] = {tri.v0.x, tri.v0.y};
+  r[1] = {tri.v0.z, id_bits};
+  r[2] = {tri.v1.x, tri.v1.y};
+  r[3] = {tri.v1.z, tri.v2.x};
+  r[4] = {tri.v2.y, tri.v2.z};
+}
+
+// Pass 4: each wide node written at its number, its leaves' triangles from its triangle_base.
+struct WriteWideNodes {
+  CollapseView t;
+  RT_HD void operator()(int i) const {
+    if (!t.is_wide[i]) return;
+    const WideChildren children = wide_children(t, i);
+    WideNode<k_width> node;
+    std::memset(&node, 0, sizeof node); // the padding too: the same bytes on both backends
+    node.child_base = 1 + t.interior_offsets[i];
+    node.triangle_base = t.triangle_offsets[i];
+    int offset = 0;
+    for (int c = 0; c < k_width; ++c) {
+      const WideChild child =
+          c < children.count ? children.child[c] : WideChild{Aabb{}, -1, 0, 0};
+      node.lo_x[c] = child.box.lo.x;
+      node.lo_y[c] = child.box.lo.y;
+      node.lo_z[c] = child.box.lo.z;
+      node.hi_x[c] = child.box.hi.x;
+      node.hi_y[c] = child.box.hi.y;
+      node.hi_z[c] = child.box.hi.z;
+      if (c >= children.count) continue;
+      if (child.node >= 0) {
+        node.meta[c] = ch09::interior_meta(children.slot[c]);
+        node.imask = static_cast<std::uint8_t>(node.imask | (1u << children.slot[c]));
+        continue;
+      }
+      node.meta[c] = ch09::leaf_meta(child.count, offset);
+      for (int k = 0; k < child.count; ++k, ++offset)
+        write_records(t.out_records + 5 * (node.triangle_base + offset),
+                      t.triangles[child.first + k], t.triangle_ids[child.first + k]);
+    }
+    t.out_nodes[t.wide_index[i]] = node;
+  }
+};
+
+// The number of wide nodes: the root and every interior child.
+struct CountWideNodes {
+  const int* interior_offsets;
+  const int* interior_counts;
+  int last;
+  int* total;
+  RT_HD void operator()(int) const {
+    *total = 1 + interior_offsets[last] + interior_counts[last];
+  }
+};
+
+std::size_t scan_scratch_bytes(int n) {
+  std::size_t bytes = 0;
+  RT_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, static_cast<int*>(nullptr),
+                                              static_cast<int*>(nullptr), n));
+  return std::max<std::size_t>(bytes, 1);
+}
+
+void exclusive_scan(Backend backend, const BackendArray<int>& in, BackendArray<int>& out,
+                    BackendArray<unsigned char>& scratch) {
+  const int n = static_cast<int>(in.size());
+  if (backend == Backend::cpu) {
+    std::exclusive_scan(in.data(), in.data() + n, out.data(), 0);
+    return;
+  }
+  std::size_t bytes = scratch.size();
+  RT_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(scratch.data(), bytes, in.data(), out.data(), n));
+}
+
+} // namespace
+
+TreeArrays upload_tree(Backend backend, const ch07::Bvh& bvh) {
+  TreeArrays tree;
+  tree.nodes = BackendArray<BvhNode>(backend, std::span<const BvhNode>(bvh.nodes));
+  tree.parents = BackendArray<int>(backend, bvh.nodes.size());
+  tree.triangles = BackendArray<TriangleF>(backend, std::span<const TriangleF>(bvh.triangles));
+  tree.triangle_ids = BackendArray<int>(backend, std::span<const int>(bvh.triangle_ids));
+  tree.arrivals = BackendArray<unsigned>(backend, bvh.nodes.size());
+  for_each_index(backend, static_cast<int>(bvh.nodes.size()),
+                 LinkParents{tree.nodes.data(), tree.parents.data()});
+  return tree;
+}
+
+WideCollapse::WideCollapse(Backend backend, int triangle_count)
+    : backend_(backend), triangle_count_(triangle_count),
+      capacity_(std::max(1, triangle_count - 1)), range_first_(backend, capacity_),
+      range_end_(backend, capacity_), is_wide_(backend, capacity_),
+      interior_counts_(backend, capacity_), leaf_counts_(backend, capacity_),
+      interior_offsets_(backend, capacity_), triangle_offsets_(backend, capacity_),
+      wide_index_(backend, capacity_), wide_total_(backend, 1), nodes_(backend, capacity_),
+      records_(backend, std::size_t(5) * std::max(1, triangle_count)),
+      scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0) {}
+
+void WideCollapse::run(const TreeArrays& binary) {
+  const int n = static_cast<int>(binary.nodes.size());
+  if (n > capacity_ || static_cast<int>(binary.triangles.size()) != triangle_count_)
+    throw Error("WideCollapse: a tree of another size than the arrays were made for");
+  const CollapseView t{binary.nodes.data(),
+                       binary.parents.data(),
+                       binary.triangles.data(),
+                       binary.triangle_ids.data(),
+                       range_first_.data(),
+                       range_end_.data(),
+                       is_wide_.data(),
+                       interior_counts_.data(),
+                       leaf_counts_.data(),
+                       interior_offsets_.data(),
+                       triangle_offsets_.data(),
+                       wide_index_.data(),
+                       nodes_.data(),
+                       records_.data()};
+  for_each_index(backend_, n, MeasureNodes{t});
+  for_each_index(backend_, n, CountChildren{t});
+  exclusive_scan(backend_, interior_counts_, interior_offsets_, scratch_);
+  exclusive_scan(backend_, leaf_counts_, triangle_offsets_, scratch_);
+  for_each_index(backend_, n, NumberChildren{t});
+  for_each_index(backend_, n, WriteWideNodes{t});
+  for_each_index(backend_, 1,
+                 CountWideNodes{interior_offsets_.data(), interior_counts_.data(), n - 1,
+                                wide_total_.data()});
+}
+
+ch09::Wide4PackedBvh::View WideCollapse::view() const {
+  return {nodes_.data(), records_.data(), capacity_};
+}
+
+ch09::Wide4PackedBvh WideCollapse::to_host() const {
+  ch09::Wide4PackedBvh tree;
+  tree.nodes = nodes_.to_host();
+  tree.nodes.resize(static_cast<std::size_t>(wide_total_.to_host()[0]));
+  tree.triangles = records_.to_host();
+  tree.triangles.resize(std::size_t(5) * triangle_count_);
+  fill_wide_stats(tree);
+  return tree;
+}
+
+ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary) {
+  for (const BvhNode& node : binary.nodes)
+    for (int c = 0; c < 2; ++c)
+      if (node.count[c] > k_wide_leaf_triangles)
+        throw InputError("collapse: a binary leaf of " + std::to_string(node.count[c]) +
+                         " triangles; a wide leaf holds at most " +
+                         std::to_string(k_wide_leaf_triangles));
+  if (binary.nodes.empty()) return {};
+  const TreeArrays arrays = upload_tree(backend, binary);
+  WideCollapse collapse(backend, static_cast<int>(binary.triangles.size()));
+  PassClock clock(backend);
+  collapse.run(arrays);
+  const double ms = clock.milliseconds();
+  ch09::Wide4PackedBvh tree = collapse.to_host();
+  tree.stats.build_ms = ms;
+  return tree;
+}
+
+void fill_wide_stats(ch09::Wide4PackedBvh& tree) {
+  ch09::WideStats stats;
+  stats.build_ms = tree.stats.build_ms;
+  stats.nodes = static_cast<int>(tree.nodes.size());
+  const auto half_area = [](const Aabb& box) {
+    if (box.empty()) return 0.0;
+    const Vec3d e = box.hi.as<double>() - box.lo.as<double>();
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  };
+  std::vector<int> depth(tree.nodes.size(), 0);
+  long long children = 0, leaf_triangles = 0;
+  double cost = 0.0, root_area = 0.0;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) { // parents come before children
+    const ch09::WideNode<4>& node = tree.nodes[i];
+    Aabb box;
+    int interior = 0;
+    for (int c = 0; c < 4 && node.meta[c] != 0; ++c) {
+      const Aabb child = ch09::child_box_of(node, c);
+      box.grow(child);
+      ++children;
+      if (ch09::is_interior_meta(node.meta[c])) {
+        depth[node.child_base + interior++] = depth[i] + 1;
+        continue;
+      }
+      const int count = std::popcount(unsigned(node.meta[c] >> 5));
+      ++stats.leaves;
+      leaf_triangles += count;
+      cost += half_area(child) * count * ch09::k_triangle_cost;
+    }
+    cost += half_area(box) * ch09::k_node_cost;
+    if (i == 0) root_area = half_area(box);
+    stats.depth = std::max(stats.depth, depth[i]);
+  }
+  if (stats.nodes > 0) stats.children_per_node = double(children) / stats.nodes;
+  stats.triangles_per_leaf = double(leaf_triangles) / double(std::max(1, stats.leaves));
+  stats.sah_cost = root_area > 0.0 ? cost / root_area : cost;
+  if (leaf_triangles > 0)
+    stats.bytes_per_triangle = double(tree.nodes.size() * sizeof(ch09::WideNode<4>) +
+                                      tree.triangles.size() * sizeof(float2)) /
+                               double(leaf_triangles);
+  tree.stats = stats;
+}
+
+} // namespace rt::ch10

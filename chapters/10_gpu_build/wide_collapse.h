@@ -1,0 +1,51 @@
+// Chapter 10: chapter 07's binary tree collapsed to chapter 09's fastest node (Wide4PackedBvh)
+// in parallel passes, on the GPU or on CPU threads, so that a tree built on the GPU is traced
+// the fast way without a trip to the host. Both backends give the same wide tree bit for bit.
+#pragma once
+
+#include "rt/backend.h"
+#include "rt/backend_array.h"
+#include "tree_arrays.h"
+#include "wide_bvh.h"
+
+namespace rt::ch10 {
+
+// Which binary nodes become what, decided by each node alone: a binary node covering at most
+// three triangles is a leaf of its wide parent; an interior one covering more, at even depth,
+// is a wide node (the root always is). A wide node's children are its two binary children,
+// each one covering more than three triangles replaced by its own two: at most four children.
+inline constexpr int k_wide_leaf_triangles = ch09::k_max_leaf_triangles;
+
+// The collapse's arrays, made once for trees of `triangle_count` triangles; run() collapses a
+// tree (every frame's, in an animation) with the passes alone: on the GPU nothing waits.
+class WideCollapse {
+public:
+  WideCollapse(Backend backend, int triangle_count);
+  // `binary`: this chapter's tree of triangle_count triangles, leaves of one to three.
+  void run(const TreeArrays& binary);
+  // What the traversal reads (backend pointers). node_count is the arrays' capacity: the
+  // traversal only asks whether it is zero.
+  ch09::Wide4PackedBvh::View view() const;
+  // The last tree run() made, in host memory, its stats filled (build_ms left at 0).
+  ch09::Wide4PackedBvh to_host() const;
+
+private:
+  Backend backend_;
+  int triangle_count_, capacity_;
+  BackendArray<int> range_first_, range_end_, is_wide_, interior_counts_, leaf_counts_,
+      interior_offsets_, triangle_offsets_, wide_index_, wide_total_;
+  BackendArray<ch09::WideNode<4>> nodes_;
+  BackendArray<float2> records_;
+  BackendArray<unsigned char> scratch_;
+};
+
+// `binary` (it passes chapter 07's checker; leaves of at most three triangles) collapsed on the
+// backend; stats.build_ms is the collapse's time, measured as a build's (PassClock). Throws
+// InputError for a larger leaf.
+ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary);
+
+// A wide tree's report figures, computed from the tree itself as chapter 09's collapse
+// computes them (its cost model, over the root's area); build_ms is kept.
+void fill_wide_stats(ch09::Wide4PackedBvh& tree);
+
+} // namespace rt::ch10
