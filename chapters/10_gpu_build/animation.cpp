@@ -1,6 +1,7 @@
 // Chapter 10: the moving scene and its frames. See animation.h.
 #include "animation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -44,11 +45,37 @@ ch04::Mesh rippling_torus(double time, int detail) {
 
 } // namespace
 
-ch05::ObjMesh moving_scene_at(double time, int detail) {
+ch04::Mesh fit_moving_model(ch04::Mesh model) {
+  if (model.triangles.empty()) throw InputError("--moving --scene: the model has no triangles");
+  Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const Vec3f& v : model.vertices) {
+    lo = {std::min(lo.x, double(v.x)), std::min(lo.y, double(v.y)),
+          std::min(lo.z, double(v.z))};
+    hi = {std::max(hi.x, double(v.x)), std::max(hi.y, double(v.y)),
+          std::max(hi.z, double(v.z))};
+  }
+  const double side = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  const double scale = side > 0.0 ? 5.0 / side : 1.0;
+  const Vec3d from{0.5 * (lo.x + hi.x), lo.y, 0.5 * (lo.z + hi.z)};
+  const Vec3d to{0.0, -1.6 + 1.5 * double(k_wave_height), 0.0}; // above the floor's top
+  for (Vec3f& v : model.vertices) v = (to + (v.as<double>() - from) * scale).as<float>();
+  return model;
+}
+
+// [listing:waving_model]
+ch04::Mesh waving_model(const ch04::Mesh& fitted, double time) {
+  ch04::Mesh moved = fitted;
+  for (Vec3f& v : moved.vertices)
+    v.y = float(double(v.y) + k_wave_height * std::sin(2.0 * v.x + 1.5 * v.z - 2.0 * time));
+  return moved;
+}
+// [/listing:waving_model]
+
+ch05::ObjMesh moving_scene_at(double time, int detail, const ch04::Mesh* model) {
   if (detail < 8 || detail > 4096)
     throw InputError("--detail " + std::to_string(detail) + ": the torus takes 8 to 4096");
   ch05::ObjMesh scene;
-  scene.geometry = rippling_torus(time, detail);
+  scene.geometry = model ? waving_model(*model, time) : rippling_torus(time, detail);
   scene.material_ids.assign(scene.geometry.triangles.size(), 0);
   for (int k = 0; k < 4; ++k) { // the spheres: rigid motion, each on its own orbit
     const double phase = time * (0.6 + 0.15 * k) + k * k_pi / 2.0;
@@ -90,8 +117,8 @@ AnimationResult run_animation(const AnimationOptions& options) {
   BackendArray<Rgba8> pixels(options.backend, options.extent.pixel_count());
   std::vector<std::unique_ptr<MovingFrames>> scenes; // one per update: each keeps its tree
   for (std::size_t u = 0; u < options.updates.size(); ++u)
-    scenes.push_back(
-        std::make_unique<MovingFrames>(options.backend, options.builder, options.detail));
+    scenes.push_back(std::make_unique<MovingFrames>(options.backend, options.builder,
+                                                    options.detail, options.model.get()));
   for (int frame = 0; frame < options.frames; ++frame) {
     for (std::size_t u = 0; u < options.updates.size(); ++u) {
       const auto start = std::chrono::steady_clock::now();

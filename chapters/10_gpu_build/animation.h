@@ -6,6 +6,7 @@
 // for it.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,20 @@ namespace rt::ch10 {
 // Every time gives the same triangles in the same order, only the vertices move. The reference
 // of the frames made on the backend (moving_frames.h). Throws InputError for a detail outside
 // 8..4096.
-ch05::ObjMesh moving_scene_at(double time, int detail);
+// With a `model` (fitted by fit_moving_model) in the torus's place: the model waving
+// (waving_model), the same spheres and floor around it.
+ch05::ObjMesh moving_scene_at(double time, int detail, const ch04::Mesh* model = nullptr);
+
+// A model of the reader's moved and scaled into the torus's place: centred over the floor,
+// its largest side 5 units long, its lowest point just above the floor. Throws InputError
+// for a model with no triangles.
+ch04::Mesh fit_moving_model(ch04::Mesh model);
+
+// How far a waving model's vertices rise and fall.
+inline constexpr float k_wave_height = 0.15f;
+// The fitted model at `time`: every vertex lifted by a wave that runs across the floor,
+// k_wave_height * sin(2 x + 1.5 z - 2 time): each moves by its own amount, as the torus's do.
+ch04::Mesh waving_model(const ch04::Mesh& fitted, double time);
 
 // A camera that sees the whole animation.
 ch03::CameraSpec moving_scene_camera();
@@ -39,7 +53,8 @@ struct AnimationOptions {
   std::vector<Update> updates{Update::rebuild, Update::refit};
   int frames = 60;
   double seconds_per_frame = 1.0 / 30.0;
-  int detail = 316; // about 100k triangles in the torus
+  int detail = 316;                        // about 100k triangles in the torus
+  std::shared_ptr<const ch04::Mesh> model; // fitted: in the torus's place; null: the torus
   Extent extent{1920, 1080};
 };
 

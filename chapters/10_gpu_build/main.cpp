@@ -8,6 +8,7 @@
 //   --dump-hits FILE --ray-type T     the protocol's hits of one view through --builder's tree
 //   --benchmark [SCENE...]            every builder on the benchmark set (default) or the
 //   scenes
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -34,6 +35,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   ch07::QueryOptions query;
   std::optional<Builder> builder; // --builder: the one built (queries) or measured
   bool moving = false;            // --moving
+  bool moving_model = false;      // --moving with --scene: the model instead of the torus
   std::optional<Update> update;   // --update: one of them; both by default
   MovingOptions animation;        // --detail, --animation-csv
   bool skip_cpu = false;
@@ -85,6 +87,12 @@ int run(ChapterOptions& options) {
   if (options.query.benchmark) return run_benchmark_mode(options, backend);
   if (options.moving) {
     options.animation.animation.builder = options.builder.value_or(Builder::lbvh);
+    if (options.moving_model) { // --scene: that model waving in the torus's place
+      options.animation.animation.model = std::make_shared<const ch04::Mesh>(
+          fit_moving_model(ch05::load_obj(options.query.scene_path).geometry));
+      options.animation.model_name =
+          std::filesystem::path(options.query.scene_path).filename().string();
+    }
     if (options.update) options.animation.animation.updates = {*options.update};
     return run_moving_program(options, options.animation, backend);
   }
@@ -174,7 +182,8 @@ int main(int argc, char** argv) {
   app.add_flag("--moving", options.moving,
                "The moving scene: in the window, its tree updated for every frame drawn "
                "(--update, default rebuild); headless, --frames frames (default 60) with the "
-               "tree rebuilt and refitted, each frame's figures printed");
+               "tree rebuilt and refitted, each frame's figures printed; with --scene, that "
+               "model waves in the torus's place");
   app.add_option_function<std::string>(
          "--update", [&](const std::string& text) { options.update = parse_update(text); },
          "With --moving: rebuild or refit (the tree every frame)")
@@ -195,6 +204,7 @@ int main(int argc, char** argv) {
       throw UsageError("--update, --detail and --animation-csv go with --moving");
     if (options.moving && (options.query.benchmark || options.query.query()))
       throw UsageError("--moving runs alone: not with --benchmark, --rays or --dump-hits");
+    options.moving_model = options.moving && app.count("--scene") > 0;
     return run(options);
   });
 }

@@ -21,16 +21,25 @@ using namespace passes;
 constexpr float k_pi_f = 3.14159265358979f;
 
 // Each vertex of the scene at `time`, computed alone: the torus's from its place in the grid
-// (moving_scene_at's rippling_torus, in float), the spheres' as their rest offsets around
-// their orbiting centres, the floor's where it rests.
+// (moving_scene_at's rippling_torus, in float) or a model's lifted by waving_model's wave, the
+// spheres' as their rest offsets around their orbiting centres, the floor's where it rests.
 struct MoveVertices {
-  const Vec3f* rest; // sphere vertices: offsets from the centre; floor: positions
-  int detail;        // the torus: detail * (detail / 2) vertices, first
+  const Vec3f*
+      rest;   // model: fitted; sphere vertices: offsets from the centre; floor: positions
+  int detail; // the torus: detail * (detail / 2) vertices, first
+  int model_vertices; // > 0: a waving model's vertices come first instead
   int sphere_vertices;
   float time;
   Vec3f* vertices;
   RT_HD void operator()(int v) const {
-    const int around = detail, across = detail / 2, torus = around * across;
+    const int around = detail, across = detail / 2;
+    const int torus = model_vertices > 0 ? model_vertices : around * across;
+    if (v < model_vertices) {
+      const Vec3f r = rest[v];
+      vertices[v] = {r.x, r.y + k_wave_height * sinf(2.0f * r.x + 1.5f * r.z - 2.0f * time),
+                     r.z};
+      return;
+    }
     if (v < torus) {
       const float u = 2.0f * k_pi_f * float(v / across) / float(around);
       const float w = 2.0f * k_pi_f * float(v % across) / float(across);
@@ -82,7 +91,7 @@ private:
 struct MovingFrames::State {
   Backend backend;
   Builder builder;
-  int detail, sphere_vertices;
+  int detail, model_vertices, sphere_vertices;
   // At time 0: triangles, materials, lights (placed for the first frame's bounds, and kept);
   // the vertices move. Its vertex normals would not follow them, so the frames are shaded
   // with each triangle's own normal (and shadows).
@@ -97,10 +106,10 @@ struct MovingFrames::State {
   PartClock clock;
   bool built = false;
 
-  State(Backend b, Builder which, int d, int per_sphere, const ch05::ObjMesh& start,
-        std::vector<Vec3f> rest_pose)
-      : backend(b), builder(which), detail(d), sphere_vertices(per_sphere),
-        scene(ch06::scene_from_obj(start, {})),
+  State(Backend b, Builder which, int d, int model_count, int per_sphere,
+        const ch05::ObjMesh& start, std::vector<Vec3f> rest_pose)
+      : backend(b), builder(which), detail(d), model_vertices(model_count),
+        sphere_vertices(per_sphere), scene(ch06::scene_from_obj(start, {})),
         features(ch06::features_used(scene, false, true)),
         rest(b, std::span<const Vec3f>(rest_pose)),
         vertices(b, std::span<const Vec3f>(scene.mesh.vertices)),
@@ -133,16 +142,21 @@ struct MovingFrames::State {
   }
 };
 
-MovingFrames::MovingFrames(Backend backend, Builder builder, int detail) {
-  const ch05::ObjMesh start = moving_scene_at(0.0, detail);
-  // Rest pose: the spheres' vertices as offsets from their centres, the floor as it lies.
+MovingFrames::MovingFrames(Backend backend, Builder builder, int detail,
+                           const ch04::Mesh* model) {
+  const ch05::ObjMesh start = moving_scene_at(0.0, detail, model);
+  // Rest pose: a model as fitted, the spheres' vertices as offsets from their centres, the
+  // floor as it lies.
   std::vector<Vec3f> rest = start.geometry.vertices;
+  if (model) std::copy(model->vertices.begin(), model->vertices.end(), rest.begin());
   const std::vector<Vec3f> sphere = ch04::make_icosphere(3, {0.0, 0.0, 0.0}, 0.45).vertices;
-  const std::size_t torus = std::size_t(detail) * (detail / 2);
+  const std::size_t first =
+      model ? model->vertices.size() : std::size_t(detail) * std::size_t(detail / 2);
   for (int k = 0; k < 4; ++k)
-    std::copy(sphere.begin(), sphere.end(), rest.begin() + torus + k * sphere.size());
-  state_ = std::make_unique<State>(backend, builder, detail, static_cast<int>(sphere.size()),
-                                   start, std::move(rest));
+    std::copy(sphere.begin(), sphere.end(), rest.begin() + first + k * sphere.size());
+  state_ = std::make_unique<State>(backend, builder, detail,
+                                   model ? static_cast<int>(model->vertices.size()) : 0,
+                                   static_cast<int>(sphere.size()), start, std::move(rest));
 }
 
 MovingFrames::~MovingFrames() = default;
@@ -151,9 +165,9 @@ FrameParts MovingFrames::frame(double time, Update update, const ch03::Camera<fl
                                Extent extent, Rgba8* pixels) {
   State& s = *state_;
   s.clock.mark(0);
-  for_each_index(
-      s.backend, static_cast<int>(s.vertices.size()),
-      MoveVertices{s.rest.data(), s.detail, s.sphere_vertices, float(time), s.vertices.data()});
+  for_each_index(s.backend, static_cast<int>(s.vertices.size()),
+                 MoveVertices{s.rest.data(), s.detail, s.model_vertices, s.sphere_vertices,
+                              float(time), s.vertices.data()});
   s.clock.mark(1);
   if (update == Update::refit && s.built)
     refit_tree(s.backend, s.tree(), s.mesh());

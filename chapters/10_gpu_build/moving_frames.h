@@ -28,7 +28,8 @@ public:
   // The torus scene of `detail` (moving_scene_at's) on the resolved backend, its tree built by
   // `builder`: the LBVH's passes on the backend; another builder from the vertices copied to
   // the host, its tree copied back (the refit and the rest stay on the backend).
-  MovingFrames(Backend backend, Builder builder, int detail);
+  // With a `model` (fit_moving_model's), the waving model in the torus's place.
+  MovingFrames(Backend backend, Builder builder, int detail, const ch04::Mesh* model = nullptr);
   ~MovingFrames();
   MovingFrames(const MovingFrames&) = delete;
   MovingFrames& operator=(const MovingFrames&) = delete;

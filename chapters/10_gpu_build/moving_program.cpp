@@ -66,7 +66,8 @@ public:
   explicit WindowAnimation(const AnimationOptions& options) : options_(options) {}
 
   void render(Backend backend, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
-    if (!frames_) frames_.emplace(backend, options_.builder, options_.detail);
+    if (!frames_)
+      frames_.emplace(backend, options_.builder, options_.detail, options_.model.get());
     frames_->frame(frame_++ * options_.seconds_per_frame, options_.updates.front(),
                    ch03::make_camera<float>(spec, extent), extent, pixels);
   }
@@ -109,9 +110,11 @@ int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving
     return 0;
   }
   const AnimationResult result = run_animation(animation);
-  report.add_context("scene", "rippling torus, four orbiting spheres and a floor, " +
-                                  group_digits(result.triangles) + " triangles, " +
-                                  std::to_string(animation.frames) + " frames");
+  report.add_context(
+      "scene",
+      (animation.model ? "waving " + moving.model_name : std::string("rippling torus")) +
+          ", four orbiting spheres and a floor, " + group_digits(result.triangles) +
+          " triangles, " + std::to_string(animation.frames) + " frames");
   report.add_context("tree",
                      builder + (animation.updates.size() == 1
                                     ? std::string(", ") + to_string(animation.updates[0])

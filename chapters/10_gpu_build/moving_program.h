@@ -14,6 +14,7 @@ namespace rt::ch10 {
 struct MovingOptions {
   AnimationOptions animation; // backend and extent are set from the program's options
   std::string csv_path;       // --animation-csv; empty: none
+  std::string model_name;     // the file name of animation.model, for the report
 };
 
 // Runs the mode on the resolved backend; returns the exit code.

@@ -119,3 +119,41 @@ TEST_CASE("frames made on the backend: the vertices of the reference, trees that
     }
   }
 }
+
+TEST_CASE("a model of the reader's waves in the torus's place: fitted, moved on the backend "
+          "as the reference moves it, its trees pass the checkers",
+          "[ch10]") {
+  const ch04::Mesh fitted =
+      fit_moving_model(ch04::make_icosphere(2, {100.0, 50.0, -20.0}, 30.0));
+  Vec3f lo = fitted.vertices[0], hi = fitted.vertices[0];
+  for (const Vec3f& v : fitted.vertices) {
+    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+  }
+  CHECK(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) == Approx(5.0f).epsilon(1e-5));
+  CHECK(0.5f * (lo.x + hi.x) == Approx(0.0f).margin(1e-5));
+  CHECK(0.5f * (lo.z + hi.z) == Approx(0.0f).margin(1e-5));
+  CHECK(lo.y - k_wave_height > -1.6f); // the wave's lowest point stays above the floor
+
+  const ch04::Mesh* model = &fitted;
+  MovingFrames frames(Backend::cpu, Builder::lbvh, 40, model);
+  const Extent extent{48, 27};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(moving_scene_camera(), extent);
+  std::vector<Rgba8> pixels(extent.pixel_count());
+  for (const Update update : {Update::rebuild, Update::refit})
+    for (const double time : {0.0, 1.3}) {
+      CAPTURE(to_string(update), time);
+      frames.frame(time, update, camera, extent, pixels.data());
+      ch05::ObjMesh reference = moving_scene_at(time, 40, model);
+      const std::vector<Vec3f> moved = frames.vertices();
+      REQUIRE(moved.size() == reference.geometry.vertices.size());
+      float worst = 0.0f;
+      for (std::size_t v = 0; v < moved.size(); ++v)
+        worst = std::max(worst, length(moved[v] - reference.geometry.vertices[v]));
+      CHECK(worst < 2e-5f);
+      reference.geometry.vertices = moved;
+      CHECK(ch07::check_bvh(frames.binary_tree(), reference.geometry).empty());
+      CHECK(ch09::check_wide_tree(frames.wide_tree(), reference.geometry).empty());
+    }
+  CHECK_THROWS_AS(fit_moving_model(ch04::Mesh{}), InputError);
+}

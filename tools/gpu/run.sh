@@ -199,6 +199,13 @@ if wanted bench10 && [ -x build/native/bin/ch10_gpu_build ]; then
     --frames 300 --animation-csv "$logdir/ch10_animation.csv" --json "$logdir/moving_ch10.json" \
     --output "$logdir/ch10_moving.png"
   tail -8 "$logdir/moving_ch10.log"
+  if [ -f "$models/stanford-dragon.obj.gz" ]; then # the 871k-triangle dragon, waving
+    step moving_ch10_dragon build/native/bin/ch10_gpu_build --backend gpu --moving --headless \
+      --scene "$models/stanford-dragon.obj.gz" --frames 300 \
+      --animation-csv "$logdir/ch10_animation_dragon.csv" --json "$logdir/moving_ch10_dragon.json" \
+      --output "$logdir/ch10_moving_dragon.png"
+    tail -8 "$logdir/moving_ch10_dragon.log"
+  fi
 fi
 # Chapter 11 at 1920x1080: each kernel's time per sample, rays per path and Mrays/s (against
 # chapter 09's diffuse rays), on the Cornell room, Sponza in sunlight and the conference room
