@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Chapter 10's diagrams and plot (book/images/10_*.svg): Karras's tree over eight sorted
+"""Chapter 10's diagrams and plots (book/images/10_*): Karras's tree over eight sorted
 Morton codes, each interior node made by its own thread, and the moving scene's frames, rebuilt
-against refitted, from the CSV the program wrote into book/data.
+against refitted, from the CSVs the program wrote into book/data: the 2-core machine's (SVG) and
+the H200's, torus and dragon, each frame's tree, collapse and trace stacked (PNG).
 
   tools/diagrams/ch10.py [OUT_DIR]     (default: book/images)
 """
@@ -18,6 +19,11 @@ from matplotlib.patches import FancyBboxPatch  # noqa: E402
 BLUE, GREY, RED, GREEN = "#2a7ab0", "#555555", "#c0392b", "#2e8b57"
 ROOT = Path(__file__).resolve().parents[2]
 ANIMATION = ROOT / "book" / "data" / "10_animation_cpu.csv"
+GPU_ANIMATIONS = (  # CSV, the scene's name, the PNG
+    ("10_animation_h200.csv", "torus, 105 168 triangles", "10_animation_h200.png"),
+    ("10_animation_dragon_h200.csv", "dragon, 876 726 triangles",
+     "10_animation_dragon_h200.png"),
+)
 CODES = [1, 2, 4, 5, 19, 24, 25, 30]  # the example of tests/10_gpu_build (5-bit codes)
 BITS = 5
 
@@ -131,11 +137,35 @@ def animation_plot(out):
     plt.close(fig)
 
 
+def gpu_animation_plot(out, csv_name, scene, png_name):
+    """Rebuild beside refit, each frame's tree, collapse and trace stacked. Frame 0 is left
+    out: both start with a build, and the rebuild's first frame also pays the first launches."""
+    with (ROOT / "book" / "data" / csv_name).open() as f:
+        rows = list(csv.DictReader(f))[1:]
+    frames = [int(r["frame"]) for r in rows]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+    for ax, update in zip(axes, ("rebuild", "refit")):
+        parts = [[float(r[f"{update}_{part}_ms"]) for r in rows]
+                 for part in ("tree", "collapse", "trace")]
+        ax.stackplot(frames, *parts, colors=(BLUE, GREEN, RED), alpha=0.85,
+                     labels=("tree (build or refit)", "collapse to 4-wide", "shaded frame"))
+        ax.set_xlabel("frame")
+        ax.set_title(update)
+    axes[0].set_ylabel("ms per frame, CUDA events (H200, 1920x1080)")
+    axes[1].legend(fontsize=8, loc="upper left")
+    fig.suptitle(f"The moving {scene}: rebuilt against refitted, frames 1-{frames[-1]}")
+    fig.savefig(out / png_name, format="png", dpi=100, metadata={"Software": None},
+                bbox_inches="tight")
+    plt.close(fig)
+
+
 def main():
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "book" / "images"
     out.mkdir(parents=True, exist_ok=True)
     karras_tree(out)
     animation_plot(out)
+    for csv_name, scene, png_name in GPU_ANIMATIONS:
+        gpu_animation_plot(out, csv_name, scene, png_name)
 
 
 if __name__ == "__main__":
