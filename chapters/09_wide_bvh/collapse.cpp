@@ -203,10 +203,10 @@ public:
     if (depth > k_wide_stack_size)
       throw Error("collapse: a node at depth " + std::to_string(depth) +
                   " is beyond the traversal stack's bound");
-    std::vector<Aabb> boxes;
-    for (const Pick& p : picks) boxes.push_back(entries_[p.entry].box);
+    Aabb boxes[k_slots] = {};
+    for (std::size_t c = 0; c < picks.size(); ++c) boxes[c] = entries_[picks[c].entry].box;
     int slot_of[k_slots];
-    assign_slots(out_.nodes[node].box, boxes.data(), static_cast<int>(boxes.size()), slot_of);
+    assign_slots(out_.nodes[node].box, boxes, (1u << picks.size()) - 1u, slot_of);
     int in_slot[k_slots];
     std::fill(std::begin(in_slot), std::end(in_slot), -1);
     for (int c = 0; c < static_cast<int>(picks.size()); ++c) in_slot[slot_of[c]] = c;

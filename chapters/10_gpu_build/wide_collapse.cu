@@ -49,11 +49,13 @@ struct WideChild {
   int node, first, count;
 };
 
-// A wide node's children in slot order, and the slot of each.
+// A wide node's children at fixed places: binary child c's at place 2c, or, opened, its two
+// children at places 2c and 2c + 1; `present` has a bit per place that holds one, `slot` the
+// octant slot of each. Fixed places and unrolled loops keep all of it in registers on the GPU.
 struct WideChildren {
   WideChild child[k_width];
   int slot[k_width];
-  int count = 0;
+  unsigned present = 0;
 };
 
 // Binary child c of node i, as a leaf of the wide tree or opened further (interior = true).
@@ -68,40 +70,52 @@ RT_HD inline WideChild binary_child(const CollapseView& t, const BvhNode& node, 
 }
 
 // The children of the wide node made of binary node i: its binary children, each covering more
-// than three triangles opened into its own two; then the octant slots, and the children sorted
-// by slot.
+// than three triangles opened into its own two; then the octant slots.
 RT_HD inline WideChildren wide_children(const CollapseView& t, int i) {
   WideChildren out;
   const BvhNode node = t.nodes[i];
+  RT_UNROLL
   for (int c = 0; c < 2; ++c) {
     if (!node.is_leaf(c) && node.first[c] < 0) continue; // the one-triangle tree's empty side
     bool open = false;
     const WideChild child = binary_child(t, node, c, open);
     if (!open) {
-      out.child[out.count++] = child;
+      out.child[2 * c] = child;
+      out.present |= 1u << (2 * c);
       continue;
     }
     const BvhNode opened = t.nodes[child.node];
+    RT_UNROLL
     for (int d = 0; d < 2; ++d) {
       bool interior = false;
-      out.child[out.count++] = binary_child(t, opened, d, interior);
+      out.child[2 * c + d] = binary_child(t, opened, d, interior);
+      out.present |= 1u << (2 * c + d);
     }
   }
   Aabb box = node.box[0];
   box.grow(node.box[1]);
   Aabb boxes[k_width];
-  for (int c = 0; c < out.count; ++c) boxes[c] = out.child[c].box;
-  ch09::assign_slots(box, boxes, out.count, out.slot);
-  for (int a = 1; a < out.count; ++a) // insertion sort by slot: at most four
-    for (int b = a; b > 0 && out.slot[b - 1] > out.slot[b]; --b) {
-      const WideChild child = out.child[b];
-      out.child[b] = out.child[b - 1];
-      out.child[b - 1] = child;
-      const int slot = out.slot[b];
-      out.slot[b] = out.slot[b - 1];
-      out.slot[b - 1] = slot;
-    }
+  RT_UNROLL
+  for (int c = 0; c < k_width; ++c) boxes[c] = out.child[c].box;
+  ch09::assign_slots(box, boxes, out.present, out.slot);
   return out;
+}
+
+// Calls visit(child, slot, position) for each child in slot order, position counting from 0:
+// every loop unrolled, every index fixed.
+template <class Visit> RT_HD void in_slot_order(const WideChildren& w, Visit&& visit) {
+  int rank[k_width];
+  RT_UNROLL
+  for (int c = 0; c < k_width; ++c) {
+    rank[c] = 0;
+    RT_UNROLL
+    for (int d = 0; d < k_width; ++d)
+      rank[c] += (w.present >> d & 1u) != 0 && w.slot[d] < w.slot[c];
+  }
+  RT_UNROLL
+  for (int p = 0; p < k_width; ++p) RT_UNROLL
+  for (int c = 0; c < k_width; ++c)
+    if ((w.present >> c & 1u) != 0 && rank[c] == p) visit(w.child[c], w.slot[c], p);
 }
 
 // Pass 1: each node's triangle range (its leftmost and rightmost leaves, walked down to) and
@@ -132,7 +146,9 @@ struct CountChildren {
     int interior = 0, triangles = 0;
     if (t.is_wide[i]) {
       const WideChildren children = wide_children(t, i);
-      for (int c = 0; c < children.count; ++c) {
+      RT_UNROLL
+      for (int c = 0; c < k_width; ++c) {
+        if ((children.present >> c & 1u) == 0) continue;
         if (children.child[c].node >= 0)
           ++interior;
         else
@@ -150,10 +166,10 @@ struct NumberChildren {
   RT_HD void operator()(int i) const {
     if (i == 0) t.wide_index[0] = 0;
     if (!t.is_wide[i]) return;
-    const WideChildren children = wide_children(t, i);
     int next = 1 + t.interior_offsets[i];
-    for (int c = 0; c < children.count; ++c)
-      if (children.child[c].node >= 0) t.wide_index[children.child[c].node] = next++;
+    in_slot_order(wide_children(t, i), [&](const WideChild& child, int, int) {
+      if (child.node >= 0) t.wide_index[child.node] = next++;
+    });
   }
 };
 
@@ -173,32 +189,38 @@ struct WriteWideNodes {
   CollapseView t;
   RT_HD void operator()(int i) const {
     if (!t.is_wide[i]) return;
-    const WideChildren children = wide_children(t, i);
     WideNode<k_width> node;
     std::memset(&node, 0, sizeof node); // the padding too: the same bytes on both backends
     node.child_base = 1 + t.interior_offsets[i];
     node.triangle_base = t.triangle_offsets[i];
+    const Aabb empty;
+    RT_UNROLL
+    for (int p = 0; p < k_width; ++p) { // empty children, unless a child takes the place
+      node.lo_x[p] = empty.lo.x;
+      node.lo_y[p] = empty.lo.y;
+      node.lo_z[p] = empty.lo.z;
+      node.hi_x[p] = empty.hi.x;
+      node.hi_y[p] = empty.hi.y;
+      node.hi_z[p] = empty.hi.z;
+    }
     int offset = 0;
-    for (int c = 0; c < k_width; ++c) {
-      const WideChild child =
-          c < children.count ? children.child[c] : WideChild{Aabb{}, -1, 0, 0};
-      node.lo_x[c] = child.box.lo.x;
-      node.lo_y[c] = child.box.lo.y;
-      node.lo_z[c] = child.box.lo.z;
-      node.hi_x[c] = child.box.hi.x;
-      node.hi_y[c] = child.box.hi.y;
-      node.hi_z[c] = child.box.hi.z;
-      if (c >= children.count) continue;
+    in_slot_order(wide_children(t, i), [&](const WideChild& child, int slot, int p) {
+      node.lo_x[p] = child.box.lo.x;
+      node.lo_y[p] = child.box.lo.y;
+      node.lo_z[p] = child.box.lo.z;
+      node.hi_x[p] = child.box.hi.x;
+      node.hi_y[p] = child.box.hi.y;
+      node.hi_z[p] = child.box.hi.z;
       if (child.node >= 0) {
-        node.meta[c] = ch09::interior_meta(children.slot[c]);
-        node.imask = static_cast<std::uint8_t>(node.imask | (1u << children.slot[c]));
-        continue;
+        node.meta[p] = ch09::interior_meta(slot);
+        node.imask = static_cast<std::uint8_t>(node.imask | (1u << slot));
+        return;
       }
-      node.meta[c] = ch09::leaf_meta(child.count, offset);
+      node.meta[p] = ch09::leaf_meta(child.count, offset);
       for (int k = 0; k < child.count; ++k, ++offset)
         write_records(t.out_records + 5 * (node.triangle_base + offset),
                       t.triangles[child.first + k], t.triangle_ids[child.first + k]);
-    }
+    });
     t.out_nodes[t.wide_index[i]] = node;
   }
 };

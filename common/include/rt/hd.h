@@ -16,3 +16,11 @@
 #else
 #define RT_ON_DEVICE 0
 #endif
+
+// Unrolls the loop that follows on the device (where a loop over a small fixed count, once
+// unrolled, keeps its arrays in registers); the host's compiler decides for itself.
+#if defined(__CUDA_ARCH__)
+#define RT_UNROLL _Pragma("unroll")
+#else
+#define RT_UNROLL
+#endif
