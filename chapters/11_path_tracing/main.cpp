@@ -10,6 +10,7 @@
 #include <iostream>
 #include <optional>
 
+#include "animation.h"
 #include "camera_cli.h"
 #include "path_render.h"
 #include "path_report.h"
@@ -36,12 +37,18 @@ struct ChapterOptions : ch03::ProgramOptions {
   double sky = -1.0; // grey sky radiance; < 0: 1 for a scene without emitters, else none
   std::optional<Vec3d> sun;
   double sun_irradiance = 3.0;
+  bool moving = false; // chapter 10's moving scene, its tree built again every frame
+  int detail = 316;    // its torus's segments around
 };
+
+// The moving scene's animation: 30 frames a second.
+constexpr double k_seconds_per_frame = 1.0 / 30.0;
 
 // The scene, its sky and sun, and the camera: the room's own view, or chapter 06's framing.
 PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   long long defaulted = 0;
-  PathScene scene = load_path_scene(options.scene_path, &defaulted);
+  PathScene scene = options.moving ? moving_path_scene(0.0, options.detail)
+                                   : load_path_scene(options.scene_path, &defaulted);
   if (defaulted > 0)
     scene.description += ", " + group_digits(defaulted) +
                          (defaulted == 1 ? " triangle" : " triangles") +
@@ -62,13 +69,14 @@ PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   CameraSpec framed = ch06::frame_bounds_down_z(ch06::bounds_of(scene.mesh), camera.fov_degrees,
                                                 options.common.extent());
   if (room) framed = ch11::cornell_camera();
+  if (options.moving) framed = ch10::moving_scene_camera();
   if (interior)
     framed = {.eye = interior->eye.as<double>(),
               .target = interior->target.as<double>(),
               .fov_degrees = interior->vfov_degrees};
   if (!options.eye_given) camera.eye = framed.eye;
   if (!options.target_given) camera.target = framed.target;
-  if ((room || interior.has_value()) && !options.fov_given)
+  if ((room || options.moving || interior.has_value()) && !options.fov_given)
     camera.fov_degrees = framed.fov_degrees;
   return scene;
 }
@@ -102,9 +110,11 @@ int run(ChapterOptions& options) {
   std::optional<PathRenderer> renderer; // made for the first frame
   std::optional<std::pair<CameraSpec, Extent>> shown;
   const auto renderer_for = [&](Backend b) -> PathRenderer& {
-    if (!renderer) renderer.emplace(scene, b);
+    if (!renderer)
+      renderer.emplace(scene, b, options.moving ? TreeBuild::lbvh : TreeBuild::sah);
     return *renderer;
   };
+  int frame = 0; // the moving scene's, in the window
   const ch03::ProgramParts parts{
       .chapter = "ch11",
       .window_title = "progressive path tracing",
@@ -112,6 +122,11 @@ int run(ChapterOptions& options) {
       .render =
           [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
             PathRenderer& r = renderer_for(b);
+            if (options.moving) { // the scene moved: a new tree, the sums start again
+              r.move_vertices(moving_path_scene(frame++ * k_seconds_per_frame, options.detail)
+                                  .mesh.vertices);
+              shown.reset();
+            }
             const bool same =
                 shown && shown->second.width == extent.width &&
                 shown->second.height == extent.height && shown->first.eye == spec.eye &&
@@ -133,12 +148,22 @@ int run(ChapterOptions& options) {
                              group_digits(std::ssize(scene.mesh.triangles)) + " triangles, " +
                              group_digits(std::ssize(scene.lights.triangles)) + " emitting");
             rows.add_context("features", describe_path_features(features_used(scene)));
-            add_kernel_rows(renderer_for(backend), options.settings.strategy, camera,
-                            options.common.extent(), options.common.frames, rows);
+            if (options.moving)
+              add_moving_rows(renderer_for(backend), options.settings, options.detail, camera,
+                              options.common.extent(), options.common.frames, rows);
+            else
+              add_kernel_rows(renderer_for(backend), options.settings.strategy, camera,
+                              options.common.extent(), options.common.frames, rows);
           },
       .image =
           [&] {
             PathRenderer& r = renderer_for(backend);
+            if (options.moving) // the animation's last frame
+              r.move_vertices(
+                  moving_path_scene((moving_frame_count(options.common.frames) - 1) *
+                                        k_seconds_per_frame,
+                                    options.detail)
+                      .mesh.vertices);
             r.restart(camera, options.common.extent());
             render_final(r, options);
             if (r.non_finite() > 0) std::cout << r.non_finite() << " NaN/Inf samples dropped\n";
@@ -203,6 +228,22 @@ int main(int argc, char** argv) {
   app.add_option("--sun-irradiance", options.sun_irradiance, "The sun's irradiance")
       ->check(finite_range(0.0, 1e6))
       ->capture_default_str();
+  app.add_flag(
+      "--moving", options.moving,
+      "Chapter 10's moving scene instead of --scene, its tree built on the backend for "
+      "every frame (chapter 10's LBVH and collapse) and the sums started again; "
+      "headless, --frames frames of it, the image the last one's");
+  app.add_option("--detail", options.detail,
+                 "With --moving: the torus's segments around (detail^2 triangles)")
+      ->check(CLI::Range(8, 4096))
+      ->capture_default_str();
   ch03::add_image_only_option(app, options);
-  return ch03::run_program_main(app, argc, argv, options, [&] { return run(options); });
+  return ch03::run_program_main(app, argc, argv, options, [&] {
+    if (options.moving && (app.count("--scene") > 0 || options.convergence))
+      throw UsageError(
+          "--moving renders chapter 10's scene: not with --scene or --convergence");
+    if (!options.moving && app.count("--detail") > 0)
+      throw UsageError("--detail goes with --moving");
+    return run(options);
+  });
 }

@@ -4,11 +4,13 @@
 #include <cmath>
 
 #include "collapse.h"
+#include "gpu_build.h"
 #include "path_dispatch.h"
 #include "rt/backend_image.h"
 #include "rt/cuda_check.h"
 #include "rt/error.h"
 #include "wavefront.h"
+#include "wide_collapse.h"
 
 namespace rt::ch11 {
 
@@ -265,9 +267,38 @@ PathSceneView make_view(const PathScene& scene, PathTree::View tree, const Vec3f
 
 } // namespace
 
-PathRenderer::PathRenderer(const PathScene& scene, Backend backend)
-    : scene_(scene), backend_(backend), features_(features_used(scene)),
-      tree_(build_path_tree(scene.mesh)) {
+namespace {
+
+PathTree build_tree(TreeBuild build, Backend backend, const ch04::Mesh& mesh) {
+  if (build == TreeBuild::sah) return build_path_tree(mesh);
+  return ch10::collapse_to_wide4(backend,
+                                 ch10::build_lbvh(backend, mesh, ch10::CodeWidth::bits30).bvh);
+}
+
+} // namespace
+
+PathRenderer::PathRenderer(const PathScene& scene, Backend backend, TreeBuild build)
+    : scene_(scene), backend_(backend), build_(build), features_(features_used(scene)),
+      tree_(build_tree(build, backend, scene.mesh)) {
+  upload();
+  non_finite_ = BackendArray<unsigned>(backend_, 1);
+  next_path_ = BackendArray<unsigned>(backend_, 1);
+}
+
+void PathRenderer::move_vertices(const std::vector<Vec3f>& vertices) {
+  if (vertices.size() != scene_.mesh.vertices.size())
+    throw InputError("move_vertices: " + std::to_string(vertices.size()) +
+                     " vertices for a scene of " + std::to_string(scene_.mesh.vertices.size()));
+  scene_.mesh.vertices = vertices;
+  scene_.lights = build_light_table(scene_);
+  tree_ = build_tree(build_, backend_, scene_.mesh);
+  upload();
+  sums_.clear();
+  non_finite_.clear();
+  samples_ = 0;
+}
+
+void PathRenderer::upload() {
   const PathScene& s = scene_;
   if (backend_ == Backend::gpu) {
     device_ = std::make_unique<DevicePathScene>(
@@ -288,8 +319,6 @@ PathRenderer::PathRenderer(const PathScene& scene, Backend backend)
                       s.material.data(), s.materials.data(), s.lights.triangles.data(),
                       s.lights.cdf.data());
   }
-  non_finite_ = BackendArray<unsigned>(backend_, 1);
-  next_path_ = BackendArray<unsigned>(backend_, 1);
 }
 
 PathRenderer::~PathRenderer() = default;

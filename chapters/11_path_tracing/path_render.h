@@ -78,9 +78,14 @@ struct RayCounts {
   long long total() const { return extension + shadow; }
 };
 
+// How a renderer builds its tree: chapter 09's SAH collapse on the CPU (the fastest tree to
+// trace, for a scene that stays still), or chapter 10's LBVH and parallel collapse on the
+// backend (the tree a moving scene can afford every frame).
+enum class TreeBuild { sah, lbvh };
+
 class PathRenderer {
 public:
-  PathRenderer(const PathScene& scene, Backend backend);
+  PathRenderer(const PathScene& scene, Backend backend, TreeBuild build = TreeBuild::sah);
   ~PathRenderer();
   PathRenderer(const PathRenderer&) = delete;
   PathRenderer& operator=(const PathRenderer&) = delete;
@@ -89,6 +94,10 @@ public:
   unsigned features() const { return features_; }
   // Empties the sums for a new view; the next samples are numbered from first_sample.
   void restart(const CameraSpec& camera, Extent extent, unsigned first_sample = 0);
+  // The scene moved: the same triangles and materials at new vertices. The tree is built again
+  // and the light table made again; the sums are emptied (the camera and first sample kept).
+  // Throws InputError for another vertex count.
+  void move_vertices(const std::vector<Vec3f>& vertices);
   void add_samples(const RenderSettings& settings, int samples);
   // Adds one sample per pixel through the wavefront, counting the rays it traces; the
   // megakernel traces the same paths, so the same rays.
@@ -105,8 +114,11 @@ public:
   unsigned long long non_finite() const;                   // samples dropped since restart
 
 private:
+  void upload(); // the scene and tree to the backend, and view_ made for them
+
   PathScene scene_; // a copy: the host view points into it
   Backend backend_;
+  TreeBuild build_;
   unsigned features_;
   PathTree tree_;
   std::unique_ptr<struct DevicePathScene> device_; // on the GPU backend

@@ -1,6 +1,8 @@
 // Chapter 11: the program's reports. See path_report.h.
 #include "path_report.h"
 
+#include <chrono>
+
 #include "rt/program_output.h"
 #include "rt/timer.h"
 #include "wavefront.h"
@@ -68,6 +70,42 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
     }
     report.add_row(std::move(row));
   }
+}
+
+void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int detail,
+                     const CameraSpec& camera, Extent extent, int frames, Report& report) {
+  frames = moving_frame_count(frames);
+  double tree_ms = 0.0, sample_ms = 0.0;
+  renderer.restart(camera, extent);
+  for (int f = 0; f < frames; ++f) {
+    const std::vector<Vec3f> moved =
+        moving_path_scene(f * (1.0 / 30.0), detail).mesh.vertices; // the host's reference
+    auto start = std::chrono::steady_clock::now();
+    renderer.move_vertices(moved);
+    renderer.synchronize();
+    auto done = std::chrono::steady_clock::now();
+    tree_ms += std::chrono::duration<double, std::milli>(done - start).count();
+    start = done;
+    renderer.add_samples(settings, 1);
+    renderer.synchronize();
+    sample_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count();
+  }
+  const double ms = (tree_ms + sample_ms) / frames;
+  report.add_row({describe(settings) + ", moving: tree every frame",
+                  to_string(renderer.backend()),
+                  ms,
+                  double(extent.pixel_count()) / (ms * 1e3),
+                  format_fixed(tree_ms / frames, 2) +
+                      " ms tree (the LBVH and collapse, copies included) + " +
+                      format_fixed(sample_ms / frames, 2) + " ms sample, wall clock, over " +
+                      std::to_string(frames) + " frames; " +
+                      group_digits(static_cast<long long>(renderer.non_finite())) +
+                      " NaN/Inf samples in the last",
+                  {{"tree_ms", tree_ms / frames},
+                   {"sample_ms", sample_ms / frames},
+                   {"non_finite", double(renderer.non_finite())}}});
 }
 
 Report convergence_report(const PathScene& scene, Backend backend, const CameraSpec& camera,

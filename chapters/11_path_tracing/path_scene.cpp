@@ -11,6 +11,7 @@
 
 #include <tiny_obj_loader.h>
 
+#include "animation.h"
 #include "gunzip.h"
 #include "obj_loader.h"
 #include "path_sampling.h"
@@ -156,6 +157,20 @@ PathScene load_path_scene(const std::string& path, long long* defaulted) {
   if (defaulted != nullptr) *defaulted = without;
   scene.lights = build_light_table(scene);
   scene.description = path;
+  return scene;
+}
+
+PathScene moving_path_scene(double time, int detail) {
+  const ch05::ObjMesh obj = ch10::moving_scene_at(time, detail);
+  PathScene scene;
+  scene.mesh = obj.geometry;
+  scene.material = obj.material_ids; // 0 the torus, 1 to 4 the spheres, 5 the floor
+  scene.materials = {{{0.80f, 0.45f, 0.30f}, {}}, {{0.30f, 0.50f, 0.80f}, {}},
+                     {{0.80f, 0.75f, 0.30f}, {}}, {{0.35f, 0.70f, 0.40f}, {}},
+                     {{0.75f, 0.30f, 0.60f}, {}}, {{0.60f, 0.60f, 0.60f}, {}}};
+  scene.lights = build_light_table(scene);
+  scene.description =
+      "chapter 10's moving scene (rippling torus, four orbiting spheres, floor)";
   return scene;
 }
 

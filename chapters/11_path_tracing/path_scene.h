@@ -67,6 +67,11 @@ PathScene load_path_scene(const std::string& path, long long* defaulted = nullpt
 // is the camera that looks into it from just inside its front wall.
 CameraSpec cornell_camera();
 
+// Chapter 10's moving scene at `time` (seconds) as a path tracer's scene: the rippling torus of
+// `detail` segments, four orbiting spheres and the floor, each with its own albedo, no
+// emitters. Every time gives the same triangles and materials; only the vertices move.
+PathScene moving_path_scene(double time, int detail);
+
 // The white furnace: the inside of a closed icosphere of radius 1 (20 * 4^subdivisions
 // triangles, turned to face inwards) whose every face has albedo `albedo` and emission
 // `emission`. Inside, the

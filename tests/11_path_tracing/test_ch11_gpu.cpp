@@ -1,11 +1,13 @@
 // Chapter 11 tests on the GPU: the same sample numbers on both backends give nearly the same
 // image (the backends' float arithmetic differs in the last bits: fused multiply-adds, sin
 // and cos), the megakernel and wavefront agree on the GPU as on the CPU, and the persistent
-// threads add exactly the megakernel's samples.
+// threads add exactly the megakernel's samples; a moved scene, its tree built on the GPU,
+// renders as on the CPU.
 #include <cmath>
 
 #include "rt_catch.h"
 
+#include "animation.h"
 #include "gpu_guard.h"
 #include "path_cases.h"
 
@@ -74,4 +76,21 @@ TEST_CASE("GPU: the persistent threads give the megakernel's sums, bit for bit",
     CHECK(same_sums(sums_of(PathVariant::megakernel), persistent));
     for (const float4& s : persistent) CHECK(s.w == 5.0f); // every pixel, every sample once
   }
+}
+
+TEST_CASE("GPU: a moved scene, its tree built on the GPU, renders as on the CPU",
+          "[ch11][gpu]") {
+  RT_REQUIRE_GPU();
+  const PathScene start = moving_path_scene(0.0, 24);
+  const std::vector<Vec3f> later = moving_path_scene(0.9, 24).mesh.vertices;
+  const Extent extent{64, 48};
+  const auto render = [&](Backend backend) {
+    PathRenderer renderer(start, backend, TreeBuild::lbvh);
+    renderer.restart(ch10::moving_scene_camera(), extent);
+    renderer.move_vertices(later);
+    renderer.add_samples({PathVariant::persistent, KernelKind::specialised, Strategy::mis}, 8);
+    CHECK(renderer.non_finite() == 0);
+    return renderer.mean_radiance();
+  };
+  CHECK(relative_difference(render(Backend::cpu), render(Backend::gpu)) < 0.02);
 }

@@ -115,6 +115,26 @@ TEST_CASE("program: bad input is refused with one line", "[ch11]") {
       {"--scene " + (folder / "missing.obj").string(), 2, "missing.obj"},
       {"--scene " + (folder / "negative.obj").string(), 1, "negative emission"},
       {"--scene " + (folder / "flat.obj").string(), 1, "zero area"},
+      {"--moving --scene " + std::string(RT_ASSETS_DIR "/cornell_room.obj.gz"), 2,
+       "not with --scene"},
+      {"--moving --convergence", 2, "not with --scene or --convergence"},
+      {"--detail 64", 2, "--detail goes with --moving"},
+      {"--moving --detail 4", 2, "--detail"},
   };
   rt::testing::check_refused(run_program, cases);
+}
+
+TEST_CASE("program: --moving renders frames of chapter 10's scene, its tree built each frame",
+          "[ch11]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch11");
+  const std::string image = (folder / "moving.png").string();
+  const ProgramRun run = run_program("--moving --detail 16 --frames 3 --width 24 --height 16 "
+                                     "--spp 2 --sun 0.4,1,0.3 --output " +
+                                     image);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("chapter 10's moving scene"));
+  CHECK_THAT(run.output, contains("moving: tree every frame"));
+  CHECK_THAT(run.output, contains("over 3 frames; 0 NaN/Inf samples"));
+  CHECK(std::filesystem::file_size(image) > 100);
 }
