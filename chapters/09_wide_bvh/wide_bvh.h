@@ -86,6 +86,16 @@ static_assert(offsetof(WideNode<8>, child_base) == 192 && offsetof(WideNode<8>, 
 static_assert(offsetof(WideNode<8>, imask) == 208);
 // [/listing:wide_node]
 
+// Child c's box into a node's six coordinate arrays.
+template <int N> RT_HD inline void set_child_box(WideNode<N>& node, int c, const Aabb& box) {
+  node.lo_x[c] = box.lo.x;
+  node.lo_y[c] = box.lo.y;
+  node.lo_z[c] = box.lo.z;
+  node.hi_x[c] = box.hi.x;
+  node.hi_y[c] = box.hi.y;
+  node.hi_z[c] = box.hi.z;
+}
+
 // [listing:compressed_node]
 // The compressed node, 80 bytes (five 16-byte loads) for 8 children:
 //

@@ -68,13 +68,7 @@ WideTree<WideNode<N>, Triangles> pack_wide(const WideLayout& layout) {
     int slots[k_slots];
     const int count = used_slots(from, slots);
     for (int c = 0; c < N; ++c) {
-      const Aabb box = c < count ? from.child_box[slots[c]] : Aabb{};
-      node.lo_x[c] = box.lo.x;
-      node.lo_y[c] = box.lo.y;
-      node.lo_z[c] = box.lo.z;
-      node.hi_x[c] = box.hi.x;
-      node.hi_y[c] = box.hi.y;
-      node.hi_z[c] = box.hi.z;
+      set_child_box(node, c, c < count ? from.child_box[slots[c]] : Aabb{});
       node.meta[c] = c < count ? from.meta[slots[c]] : 0;
     }
     node.child_base = from.child_base;

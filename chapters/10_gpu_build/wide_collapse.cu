@@ -193,24 +193,12 @@ struct WriteWideNodes {
     std::memset(&node, 0, sizeof node); // the padding too: the same bytes on both backends
     node.child_base = 1 + t.interior_offsets[i];
     node.triangle_base = t.triangle_offsets[i];
-    const Aabb empty;
     RT_UNROLL
-    for (int p = 0; p < k_width; ++p) { // empty children, unless a child takes the place
-      node.lo_x[p] = empty.lo.x;
-      node.lo_y[p] = empty.lo.y;
-      node.lo_z[p] = empty.lo.z;
-      node.hi_x[p] = empty.hi.x;
-      node.hi_y[p] = empty.hi.y;
-      node.hi_z[p] = empty.hi.z;
-    }
+    for (int p = 0; p < k_width; ++p) // empty children, unless a child takes the place
+      ch09::set_child_box(node, p, Aabb{});
     int offset = 0;
     in_slot_order(wide_children(t, i), [&](const WideChild& child, int slot, int p) {
-      node.lo_x[p] = child.box.lo.x;
-      node.lo_y[p] = child.box.lo.y;
-      node.lo_z[p] = child.box.lo.z;
-      node.hi_x[p] = child.box.hi.x;
-      node.hi_y[p] = child.box.hi.y;
-      node.hi_z[p] = child.box.hi.z;
+      ch09::set_child_box(node, p, child.box);
       if (child.node >= 0) {
         node.meta[p] = ch09::interior_meta(slot);
         node.imask = static_cast<std::uint8_t>(node.imask | (1u << slot));
