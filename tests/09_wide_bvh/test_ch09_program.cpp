@@ -13,6 +13,7 @@
 
 #include "rt_catch.h"
 
+#include "07_bvh/program_cases.h"
 #include "run_program.h"
 
 #include "bvh_trace.h"
@@ -100,23 +101,16 @@ TEST_CASE("program: the benchmark mode on a small scene", "[ch09]") {
 TEST_CASE("program: ray files and hit dumps through the compressed tree", "[ch09]") {
   const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
   const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
-  std::vector<RayF> rays;
-  for (int i = 0; i < 500; ++i) {
-    const float a = 0.1f * i, b = 0.037f * i;
-    rays.push_back({{0.0f, 1.0f, 0.5f}, {std::cos(a) * std::cos(b), std::sin(b), std::sin(a)}});
-  }
+  std::vector<RayF> rays = rt::testing::room_ray_fan(500);
   rays.push_back({{0.0f, 100.0f, 0.5f}, {0.0f, 1.0f, 0.0f}}); // away from it all
   const std::string ray_file = (folder / "rays.bin").string();
   const std::string hit_file = (folder / "hits.bin").string();
   write_ray_file(ray_file, rays);
   for (const char* tracer : {"cwbvh8", "wide4", "binary", "wide4_packed_sorted"}) {
     CAPTURE(tracer);
-    const ProgramRun run = run_program("--scene " + k_room + " --tracer " + tracer +
-                                       " --rays " + ray_file + " --hits " + hit_file);
-    INFO(run.output);
-    REQUIRE(run.exit_code == 0);
-    const std::vector<MeshHit> hits = read_hit_file(hit_file);
-    REQUIRE(hits.size() == rays.size());
+    const std::vector<MeshHit> hits =
+        rt::testing::hits_from_program(run_program, "--scene " + k_room + " --tracer " + tracer,
+                                       ray_file, hit_file, rays.size());
     const HitAgreement a = compare_hits(
         hits, ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, rays));
     CHECK(a.mismatches == 0);

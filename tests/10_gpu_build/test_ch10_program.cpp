@@ -15,6 +15,7 @@
 
 #include "rt_catch.h"
 
+#include "07_bvh/program_cases.h"
 #include "run_program.h"
 
 #include "bvh_trace.h"
@@ -102,22 +103,15 @@ TEST_CASE("program: the benchmark mode on a small scene", "[ch10]") {
 TEST_CASE("program: ray files through each built tree give brute force's hits", "[ch10]") {
   const std::filesystem::path folder = rt::testing::temp_folder("rt_ch10");
   const ch04::Mesh mesh = ch05::load_obj(k_room).geometry;
-  std::vector<RayF> rays;
-  for (int i = 0; i < 500; ++i) {
-    const float a = 0.1f * i, b = 0.037f * i;
-    rays.push_back({{0.0f, 1.0f, 0.5f}, {std::cos(a) * std::cos(b), std::sin(b), std::sin(a)}});
-  }
+  const std::vector<RayF> rays = rt::testing::room_ray_fan(500);
   const std::string ray_file = (folder / "rays.bin").string();
   const std::string hit_file = (folder / "hits.bin").string();
   write_ray_file(ray_file, rays);
   for (const char* builder : {"lbvh", "lbvh63", "ploc"}) {
     CAPTURE(builder);
-    const ProgramRun run = run_program("--scene " + k_room + " --builder " + builder +
-                                       " --rays " + ray_file + " --hits " + hit_file);
-    INFO(run.output);
-    REQUIRE(run.exit_code == 0);
-    const std::vector<MeshHit> hits = read_hit_file(hit_file);
-    REQUIRE(hits.size() == rays.size());
+    const std::vector<MeshHit> hits = rt::testing::hits_from_program(
+        run_program, "--scene " + k_room + " --builder " + builder, ray_file, hit_file,
+        rays.size());
     const HitAgreement a = compare_hits(
         hits, ch04::closest_hits_cpu(ch04::TriangleVariant::watertight, mesh, rays));
     CHECK(a.mismatches == 0);

@@ -1,0 +1,38 @@
+// Chapter 07 program-test cases, shared with chapters 09 and 10, whose programs speak its query
+// flags: rays from inside the course's Cornell room, and a ray file sent through a program.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "ray_io.h"
+#include "rt_catch.h"
+#include "run_program.h"
+
+namespace rt::testing {
+
+// `count` rays from one point inside the Cornell room, their directions spread over the sphere.
+inline std::vector<ch03::RayF> room_ray_fan(int count) {
+  std::vector<ch03::RayF> rays;
+  for (int i = 0; i < count; ++i) {
+    const float a = 0.1f * i, b = 0.037f * i;
+    rays.push_back({{0.0f, 1.0f, 0.5f}, {std::cos(a) * std::cos(b), std::sin(b), std::sin(a)}});
+  }
+  return rays;
+}
+
+// Runs `program` with `arguments` and --rays `ray_file` --hits `hit_file`, requires a clean
+// exit and one hit per ray of the file (`rays` of them), and returns the hits.
+inline std::vector<ch04::MeshHit>
+hits_from_program(const HeadlessCpuProgram& program, const std::string& arguments,
+                  const std::string& ray_file, const std::string& hit_file, std::size_t rays) {
+  const ProgramRun run = program(arguments + " --rays " + ray_file + " --hits " + hit_file);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  std::vector<ch04::MeshHit> hits = ch07::read_hit_file(hit_file);
+  REQUIRE(hits.size() == rays);
+  return hits;
+}
+
+} // namespace rt::testing
