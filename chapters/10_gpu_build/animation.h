@@ -39,6 +39,9 @@ inline constexpr float k_wave_height = 0.15f;
 // k_wave_height * sin(2 x + 1.5 z - 2 time): each moves by its own amount, as the torus's do.
 ch04::Mesh waving_model(const ch04::Mesh& fitted, double time);
 
+// The animation's pace: 30 frames a second of scene time.
+inline constexpr double k_seconds_per_frame = 1.0 / 30.0;
+
 // A camera that sees the whole animation.
 ch03::CameraSpec moving_scene_camera();
 
@@ -52,7 +55,7 @@ struct AnimationOptions {
   Builder builder = Builder::lbvh;
   std::vector<Update> updates{Update::rebuild, Update::refit};
   int frames = 60;
-  double seconds_per_frame = 1.0 / 30.0;
+  double seconds_per_frame = k_seconds_per_frame;
   int detail = 316;                        // about 100k triangles in the torus
   std::shared_ptr<const ch04::Mesh> model; // fitted: in the torus's place; null: the torus
   Extent extent{1920, 1080};

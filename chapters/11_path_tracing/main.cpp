@@ -41,9 +41,6 @@ struct ChapterOptions : ch03::ProgramOptions {
   int detail = 316;    // its torus's segments around
 };
 
-// The moving scene's animation: 30 frames a second.
-constexpr double k_seconds_per_frame = 1.0 / 30.0;
-
 // The scene, its sky and sun, and the camera: the room's own view, or chapter 06's framing.
 PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   long long defaulted = 0;
@@ -123,8 +120,9 @@ int run(ChapterOptions& options) {
           [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
             PathRenderer& r = renderer_for(b);
             if (options.moving) { // the scene moved: a new tree, the sums start again
-              r.move_vertices(moving_path_scene(frame++ * k_seconds_per_frame, options.detail)
-                                  .mesh.vertices);
+              r.move_vertices(
+                  moving_path_scene(frame++ * ch10::k_seconds_per_frame, options.detail)
+                      .mesh.vertices);
               shown.reset();
             }
             const bool same =
@@ -161,7 +159,7 @@ int run(ChapterOptions& options) {
             if (options.moving) // the animation's last frame
               r.move_vertices(
                   moving_path_scene((moving_frame_count(options.common.frames) - 1) *
-                                        k_seconds_per_frame,
+                                        ch10::k_seconds_per_frame,
                                     options.detail)
                       .mesh.vertices);
             r.restart(camera, options.common.extent());

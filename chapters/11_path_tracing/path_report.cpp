@@ -3,6 +3,7 @@
 
 #include <chrono>
 
+#include "animation.h"
 #include "rt/program_output.h"
 #include "rt/timer.h"
 #include "wavefront.h"
@@ -78,8 +79,8 @@ void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int
   double tree_ms = 0.0, sample_ms = 0.0;
   renderer.restart(camera, extent);
   for (int f = 0; f < frames; ++f) {
-    const std::vector<Vec3f> moved =
-        moving_path_scene(f * (1.0 / 30.0), detail).mesh.vertices; // the host's reference
+    const std::vector<Vec3f> moved = moving_path_scene(f * ch10::k_seconds_per_frame, detail)
+                                         .mesh.vertices; // the host's reference
     auto start = std::chrono::steady_clock::now();
     renderer.move_vertices(moved);
     renderer.synchronize();
