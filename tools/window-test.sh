@@ -7,10 +7,14 @@
 # With RT_WINDOW_REPORT=gpu (or cpu) it also runs the window report of every path at the
 # default size, for the book's table.
 # Without a DISPLAY it starts a virtual X server (Xvfb) for the run.
+#   tools/window-test.sh --one OUT_DIR COMMAND...        (runs one command in the X server)
 set -euo pipefail
-build="$1"; out="$2"; shift 2
-paths=("${@:-cpu}")
-exe="$build/bin/ch02_pbo_interop"
+one=0
+if [ "$1" = --one ]; then
+  one=1; out="$2"; shift 2
+else
+  build="$1"; out="$2"; shift 2
+fi
 mkdir -p "$out"
 xvfb_pid=""
 if [ -z "${DISPLAY:-}" ]; then
@@ -21,6 +25,12 @@ if [ -z "${DISPLAY:-}" ]; then
   export DISPLAY="$display"
   for _ in $(seq 50); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
 fi
+if [ $one = 1 ]; then
+  "$@"
+  exit
+fi
+paths=("${@:-cpu}")
+exe="$build/bin/ch02_pbo_interop"
 frames=60
 backend=cpu
 status=0

@@ -52,6 +52,16 @@ inline std::vector<Vec3f> render_mean(const PathScene& scene, Backend backend,
   return renderer.mean_radiance();
 }
 
+// Chapter 10's moving scene at `time`, under the sky and sun the program gives it: it has no
+// emitters, so without them every image of it would be black and any two would agree.
+inline PathScene lit_moving_scene(double time, int detail) {
+  PathScene scene = moving_path_scene(time, detail);
+  scene.environment.sky = {0.6f, 0.6f, 0.6f};
+  scene.environment.sun_direction = normalize(Vec3f{0.4f, 1.0f, 0.3f});
+  scene.environment.sun_irradiance = {3.0f, 2.85f, 2.55f};
+  return scene;
+}
+
 inline bool same_sums(const std::vector<float4>& a, const std::vector<float4>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)

@@ -6,7 +6,7 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window models bench bench08 bench09 bench10 bench11 sass profile
+#   tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 sass profile
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
@@ -26,7 +26,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window models bench bench08 bench09 bench10 bench11 sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -151,6 +151,35 @@ if wanted window; then
   else
     echo "== window_test: skipped, no Xvfb on this machine (the windows are not tested)"
   fi
+fi
+
+# Chapter 11 in the window at 1920x1080, one sample per frame: its frame rate on Sponza in
+# sunlight and the conference room, and the moving scenes of chapters 10 and 11 in the window
+# (the tree rebuilt on the GPU every frame).
+if wanted window11 && [ $have_x = 1 ] && [ -x build/native/bin/ch11_path_tracing ]; then
+  mkdir -p "$logdir/window11"
+  ch11=build/native/bin/ch11_path_tracing
+  for scene in sponza-dabrovic:0.3,1,0.2 conference:0.2,1,0.3; do
+    name=${scene%%:*}
+    [ -f "$models/$name.obj.gz" ] || continue
+    step "window_ch11_$name" "${window_env[@]}" tools/window-test.sh --one "$logdir/window11" \
+      "$ch11" --window --backend gpu --frames 300 --width 1920 --height 1080 \
+      --scene "$models/$name.obj.gz" --sun "${scene#*:}" --sky 0.5 \
+      --json "$logdir/window11/window-ch11-$name.json" --output "$logdir/window11/ch11-$name.png"
+  done
+  step window_ch11_moving "${window_env[@]}" tools/window-test.sh --one "$logdir/window11" \
+    "$ch11" --window --backend gpu --moving --frames 300 --width 1920 --height 1080 \
+    --json "$logdir/window11/window-ch11-moving.json" --output "$logdir/window11/ch11-moving.png"
+  if [ -x build/native/bin/ch10_gpu_build ]; then
+    step window_ch10_moving "${window_env[@]}" tools/window-test.sh --one "$logdir/window11" \
+      build/native/bin/ch10_gpu_build --window --backend gpu --moving --frames 300 --width 1920 \
+      --height 1080 --json "$logdir/window11/window-ch10-moving.json" \
+      --output "$logdir/window11/ch10-moving.png"
+  fi
+  # The same moving scene headless: what a frame costs without the window, tree and sample apart.
+  step moving_ch11 "$ch11" --backend gpu --moving --headless --frames 300 --width 1920 \
+    --height 1080 --json "$logdir/window11/moving-ch11.json" --output "$logdir/ch11-moving.png"
+  grep -h -E "fps|frames|ms" "$logdir"/window_ch1*.log "$logdir"/moving_ch11.log | head -60
 fi
 
 # The real models: every one loads, renders and reports on the GPU, headless; with a virtual X
