@@ -3,7 +3,9 @@
 # Embree 3 is installed; Debian: apt-get install libembree-dev) and runs it on the benchmark
 # set in models/ (tools/get-models.sh). The tables go to OUTDIR/embree-compare.md, the rows to
 # .json.
-#   tools/embree-compare.sh OUTDIR [options for ch07_embree_compare, e.g. --threads 1]
+#   tools/embree-compare.sh OUTDIR [options for ch07_embree_compare, e.g. --robust]
+# Both tracers run on the CPU backend's threads: RT_CPU_THREADS=1 tools/embree-compare.sh ...
+# measures both on one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/env.sh
