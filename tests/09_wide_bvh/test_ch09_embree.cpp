@@ -1,0 +1,77 @@
+// Chapter 09 tests of ch09_embree_compare, where Embree is installed: the wide trees trace the
+// room's rays as Embree does (a differing triangle only ever at the same distance, no hit that
+// one finds and the other misses), and a --tracer or --threads it cannot honour is one error
+// line and a non-zero exit.
+#ifdef RT_CH09_EMBREE_PROGRAM
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "rt_catch.h"
+
+#include "run_program.h"
+
+namespace {
+
+using rt::testing::contains;
+using rt::testing::line_count;
+using rt::testing::ProgramRun;
+
+const std::string k_program = RT_CH09_EMBREE_PROGRAM;
+const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
+
+} // namespace
+
+TEST_CASE("embree compare: the wide trees hit what Embree hits, up to ties", "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09_embree");
+  for (const std::string tracer : {"", "cwbvh8", "wide4_packed_sorted"}) {
+    CAPTURE(tracer);
+    const std::string json = (folder / ("report" + tracer + ".json")).string();
+    const std::string choice = tracer.empty() ? "" : " --tracer " + tracer;
+    const ProgramRun run = rt::testing::run_command(
+        k_program + choice + " --width 48 --height 27 --runs 1 --json " + json + " " + k_room);
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    CHECK_THAT(run.output, contains("Our " + (tracer.empty() ? "wide8" : tracer) + " tree"));
+    CHECK_THAT(run.output, contains("| diffuse |"));
+
+    std::ifstream in(json);
+    const nlohmann::json report = nlohmann::json::parse(in);
+    int compared = 0;
+    for (const auto& row : report.at("rows")) {
+      const std::string variant = row.at("variant").get<std::string>();
+      if (!variant.ends_with(", ours") || variant.find(", build") != std::string::npos)
+        continue;
+      CAPTURE(variant);
+      const auto& m = row.at("metrics");
+      CHECK(m.at("rays").get<double>() > 0.0);
+      CHECK(m.at("only_ours_hits").get<double>() == 0.0);
+      CHECK(m.at("only_embree_hits").get<double>() == 0.0);
+      // Closest hits: a differing triangle is a tie at the same t. (Any hit compares only
+      // "hit or not", whose differences are the two counts above.)
+      if (variant.find(", ao,") == std::string::npos)
+        CHECK(m.at("differ").get<double>() == m.at("same_t").get<double>());
+      ++compared;
+    }
+    CHECK(compared == 3); // primary, ao, diffuse
+  }
+}
+
+TEST_CASE("embree compare: an unknown tracer or another thread count is refused", "[ch09]") {
+  ProgramRun run = rt::testing::run_command(k_program + " --tracer wide16 " + k_room);
+  CHECK(run.exit_code == 2);
+  CHECK(line_count(run.output) == 1);
+  CHECK_THAT(run.output, contains("--tracer wide16") && contains("wide8") &&
+                             contains("cwbvh8_greedy") && contains("binary"));
+
+  // Both tracers run on the CPU backend's threads, which RT_CPU_THREADS sets.
+  run = rt::testing::run_command("RT_CPU_THREADS=1 " + k_program + " --threads 2 " + k_room);
+  CHECK(run.exit_code == 2);
+  CHECK(line_count(run.output) == 1);
+  CHECK_THAT(run.output, contains("RT_CPU_THREADS=2"));
+}
+
+#endif
