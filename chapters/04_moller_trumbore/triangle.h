@@ -58,6 +58,23 @@ template <class T> RT_HD TriangleHit<T> intersect_moller_trumbore(Ray<T> ray, Tr
 }
 // [/listing:moller_trumbore]
 
+template <class T> struct WatertightRay;
+
+// Which coordinate goes where: the frame's own axes, read at run time...
+struct AxesOfFrame {
+  template <class T> RT_HD static int x(const WatertightRay<T>& f) { return f.kx; }
+  template <class T> RT_HD static int y(const WatertightRay<T>& f) { return f.ky; }
+  template <class T> RT_HD static int z(const WatertightRay<T>& f) { return f.kz; }
+};
+// ...or fixed when the code is compiled, by a caller that has told its rays' six cases apart
+// (chapter 09's CPU traversal): each a[k] below is then a register, not a chain of branches.
+// The arithmetic is the same either way.
+template <int X, int Y, int Z> struct FixedAxes {
+  template <class T> RT_HD static constexpr int x(const WatertightRay<T>&) { return X; }
+  template <class T> RT_HD static constexpr int y(const WatertightRay<T>&) { return Y; }
+  template <class T> RT_HD static constexpr int z(const WatertightRay<T>&) { return Z; }
+};
+
 // Woop, Benthin & Wald 2013, "Watertight Ray/Triangle Intersection", two-sided. The vertices
 // move into a frame where the ray is the +z axis from the origin; then the hit test is three
 // 2D edge functions of the moved vertices. A vertex shared by several triangles moves to the
@@ -65,7 +82,15 @@ template <class T> RT_HD TriangleHit<T> intersect_moller_trumbore(Ray<T> ray, Tr
 // closed mesh; with edge functions of exact sign the test is then the exact point-in-triangle
 // test on that mesh, which covers the origin at a shared edge and at a shared vertex alike.
 // [listing:watertight_frame]
-template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangle<T> tri) {
+// Steps 1 and 2 depend on the ray alone: a traversal that tests many triangles against one ray
+// can make this once (chapter 09's CPU traversal does).
+template <class T> struct WatertightRay {
+  Ray<T> ray;
+  int kx, ky, kz;              // the permuted axes
+  T shear_x, shear_y, shear_z; // the shear that makes the direction (0, 0, 1)
+};
+
+template <class T> RT_HD WatertightRay<T> watertight_ray(Ray<T> ray) {
   // 1. Permute the axes so that z is the direction's largest component (no division by a
   // small number), swapping x and y when z is negative to keep the winding.
   const Vec3<T> d = ray.direction;
@@ -81,9 +106,15 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   }
   // 2. Shear so the direction becomes (0, 0, 1). NaN or zero directions make NaN here, and
   // NaN fails the inside test below.
-  const T shear_x = d[kx] / d[kz];
-  const T shear_y = d[ky] / d[kz];
-  const T shear_z = T(1) / d[kz];
+  return {ray, kx, ky, kz, d[kx] / d[kz], d[ky] / d[kz], T(1) / d[kz]};
+}
+
+template <class T, class Axes = AxesOfFrame>
+RT_INLINE_ON_CPU RT_HD inline TriangleHit<T> intersect_watertight(const WatertightRay<T>& frame,
+                                                                  Triangle<T> tri, Axes = {}) {
+  const Ray<T>& ray = frame.ray;
+  const int kx = Axes::x(frame), ky = Axes::y(frame), kz = Axes::z(frame);
+  const T shear_x = frame.shear_x, shear_y = frame.shear_y, shear_z = frame.shear_z;
   const Vec3<T> a = tri.v0 - ray.origin, b = tri.v1 - ray.origin, c = tri.v2 - ray.origin;
   // Explicit FMAs: whatever the compiler's contraction setting, a vertex moves to the same
   // point in every triangle that shares it.
@@ -126,5 +157,10 @@ template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangl
   return {true, t, v_edge * inv_det, w_edge * inv_det};
 }
 // [/listing:watertight_distance]
+
+// The test in one call, as every chapter but 09's CPU traversal uses it.
+template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangle<T> tri) {
+  return intersect_watertight(watertight_ray(ray), tri);
+}
 
 } // namespace rt::ch04

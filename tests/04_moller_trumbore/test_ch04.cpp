@@ -1,6 +1,7 @@
 // Chapter 04 tests on the CPU: exact answers for simple rays, the stiff cases of the triangle
 // test (tiny, degenerate, in-plane, NaN), generated meshes, and leaks through closed meshes.
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -322,4 +323,58 @@ TEST_CASE("demo scene render: no holes against float64, at the origin and moved 
       CHECK(e.pixels_differing <= extent.pixel_count() / 100);
     }
   }
+}
+
+TEST_CASE("the watertight test with its axes fixed at compile time gives the run-time axes' "
+          "answer, bit for bit, in all six cases",
+          "[ch04]") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  const auto same = [](const TriangleHitF& a, const TriangleHitF& b) {
+    return a.hit == b.hit &&
+           (!a.hit || (std::bit_cast<unsigned>(a.t) == std::bit_cast<unsigned>(b.t) &&
+                       std::bit_cast<unsigned>(a.u) == std::bit_cast<unsigned>(b.u) &&
+                       std::bit_cast<unsigned>(a.v) == std::bit_cast<unsigned>(b.v)));
+  };
+  int cases_seen[9] = {}, hits = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const TriangleF tri{{unit(rng), unit(rng), unit(rng)},
+                        {unit(rng), unit(rng), unit(rng)},
+                        {unit(rng), unit(rng), unit(rng)}};
+    const Vec3f origin{3 * unit(rng), 3 * unit(rng), 3 * unit(rng)};
+    const Vec3f toward = (tri.v0 + tri.v1 + tri.v2) * (1.0f / 3.0f) - origin;
+    const Vec3f jitter{unit(rng), unit(rng), unit(rng)};
+    const RayF ray{origin, trial % 2 ? toward : toward + 0.3f * jitter, 0.0f, 1e30f};
+    const WatertightRay<float> frame = watertight_ray(ray);
+    const TriangleHitF expected = intersect_watertight(ray, tri);
+    TriangleHitF fixed;
+    switch (frame.kz * 3 + frame.kx) {
+    case 1:
+      fixed = intersect_watertight(frame, tri, FixedAxes<1, 2, 0>{});
+      break;
+    case 2:
+      fixed = intersect_watertight(frame, tri, FixedAxes<2, 1, 0>{});
+      break;
+    case 5:
+      fixed = intersect_watertight(frame, tri, FixedAxes<2, 0, 1>{});
+      break;
+    case 3:
+      fixed = intersect_watertight(frame, tri, FixedAxes<0, 2, 1>{});
+      break;
+    case 6:
+      fixed = intersect_watertight(frame, tri, FixedAxes<0, 1, 2>{});
+      break;
+    case 7:
+      fixed = intersect_watertight(frame, tri, FixedAxes<1, 0, 2>{});
+      break;
+    default:
+      FAIL("an axis permutation outside the six");
+    }
+    CAPTURE(trial, frame.kx, frame.ky, frame.kz);
+    CHECK(same(fixed, expected));
+    ++cases_seen[frame.kz * 3 + frame.kx];
+    hits += expected.hit;
+  }
+  for (const int c : {1, 2, 3, 5, 6, 7}) CHECK(cases_seen[c] > 1000); // every case met
+  CHECK(hits > 5000);
 }

@@ -24,3 +24,12 @@
 #else
 #define RT_UNROLL
 #endif
+
+// Asks the host's compiler to inline a function at every call (nvcc's device side inlines on
+// its own judgement). For the small functions of a traversal's innermost loop on the CPU, where
+// a call passes the ray and node through memory (chapter 09's CPU traversal).
+#if !defined(__CUDA_ARCH__) && defined(__GNUC__)
+#define RT_INLINE_ON_CPU [[gnu::always_inline]]
+#else
+#define RT_INLINE_ON_CPU
+#endif
