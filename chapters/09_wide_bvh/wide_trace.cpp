@@ -8,14 +8,45 @@
 #include "wide_traverse.h"
 
 namespace rt::ch09 {
+namespace {
+
+// One ray, its triangle test compiled for its own axis permutation: the watertight test's
+// largest direction component (kz) and the order of the other two, six cases in all.
+template <Query kQuery, class View> TraceHit trace_one(const View& tree, const RayF& ray) {
+  const ch04::WatertightRay<float> frame = ch04::watertight_ray(ray);
+  const auto trace = [&]<int X, int Y, int Z>() {
+    return trace_wide<kQuery>(tree, ray, ch07::NoCounters{},
+                              FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>(frame));
+  };
+  switch (frame.kz * 3 + frame.kx) {
+  case 0 * 3 + 1:
+    return trace.template operator()<1, 2, 0>();
+  case 0 * 3 + 2:
+    return trace.template operator()<2, 1, 0>();
+  case 1 * 3 + 2:
+    return trace.template operator()<2, 0, 1>();
+  case 1 * 3 + 0:
+    return trace.template operator()<0, 2, 1>();
+  case 2 * 3 + 0:
+    return trace.template operator()<0, 1, 2>();
+  default:
+    return trace.template operator()<1, 0, 2>(); // kz 2, kx 1
+  }
+}
+
+template <class View> TraceHit trace_one(Query query, const View& tree, const RayF& ray) {
+  return query == Query::closest ? trace_one<Query::closest>(tree, ray)
+                                 : trace_one<Query::any>(tree, ray);
+}
+
+} // namespace
 
 template <class View>
 void trace_wide_cpu(Query query, const View& tree, std::span<const RayF> rays,
                     std::span<MeshHit> hits) {
   if (hits.size() != rays.size()) throw Error("trace_wide_cpu: one hit per ray");
   ch07::for_each_ray_cpu(rays.size(), [&](std::size_t i) {
-    const TraceHit hit = query == Query::closest ? trace_wide<Query::closest>(tree, rays[i])
-                                                 : trace_wide<Query::any>(tree, rays[i]);
+    const TraceHit hit = trace_one(query, tree, rays[i]);
     hits[i] = {hit.t, hit.triangle};
   });
 }
@@ -27,8 +58,7 @@ void trace_wide_sorted_cpu(Query query, const View& tree, const RaySortFrame& fr
   const std::vector<int> order = sorted_ray_order(rays, frame);
   ch07::for_each_ray_cpu(rays.size(), [&](std::size_t j) {
     const int i = order[j];
-    const TraceHit hit = query == Query::closest ? trace_wide<Query::closest>(tree, rays[i])
-                                                 : trace_wide<Query::any>(tree, rays[i]);
+    const TraceHit hit = trace_one(query, tree, rays[i]);
     hits[i] = {hit.t, hit.triangle};
   });
 }

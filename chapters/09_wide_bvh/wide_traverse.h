@@ -6,6 +6,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <limits>
 
 #include "traverse.h"
 #include "wide_bvh.h"
@@ -23,7 +24,7 @@ struct WideRay {
   unsigned octant_inverse; // 7 - octant, octant bit k set where 1/direction_k < 0
 };
 
-RT_HD inline WideRay make_wide_ray(const RayF& ray) {
+RT_INLINE_ON_CPU RT_HD inline WideRay make_wide_ray(const RayF& ray) {
   const ch07::BoxRay box = ch07::make_box_ray(ray);
   const unsigned octant =
       (box.negative[0] ? 1u : 0u) | (box.negative[1] ? 2u : 0u) | (box.negative[2] ? 4u : 0u);
@@ -65,27 +66,34 @@ template <int N> RT_HD inline ChildSlabs<N> slabs_of(const WideNode<N>& n, const
 }
 
 // [listing:compressed_slabs]
-// The compressed node's planes: every grid coordinate dequantised (one loop per coordinate,
-// so the CPU converts and scales eight at once), then the near and far planes picked as for
-// float boxes. The float planes are exactly the build's (dequantise), so each box tested
-// contains its child's exact box.
-RT_HD inline ChildSlabs<k_slots> slabs_of(const CompressedNode& n, const WideRay& r) {
+// The compressed node's child boxes back in float: every grid coordinate dequantised (one loop
+// per coordinate, so the CPU converts and scales eight at once). The float planes are exactly
+// the build's (dequantise), so each box tested contains its child's exact box.
+struct ChildPlanes {
+  float lo_x[k_slots], lo_y[k_slots], lo_z[k_slots];
+  float hi_x[k_slots], hi_y[k_slots], hi_z[k_slots];
+};
+
+RT_HD inline ChildPlanes dequantise_planes(const CompressedNode& n) {
   const float sx = grid_step(n.exponent[0]), sy = grid_step(n.exponent[1]),
               sz = grid_step(n.exponent[2]);
-  float lo_x[k_slots], lo_y[k_slots], lo_z[k_slots], hi_x[k_slots], hi_y[k_slots],
-      hi_z[k_slots];
-#if defined(__CUDA_ARCH__)
-#pragma unroll
-#endif
+  ChildPlanes p;
+  RT_UNROLL
   for (int c = 0; c < k_slots; ++c) {
-    lo_x[c] = dequantise(n.q_lo_x[c], sx, n.origin[0]);
-    lo_y[c] = dequantise(n.q_lo_y[c], sy, n.origin[1]);
-    lo_z[c] = dequantise(n.q_lo_z[c], sz, n.origin[2]);
-    hi_x[c] = dequantise(n.q_hi_x[c], sx, n.origin[0]);
-    hi_y[c] = dequantise(n.q_hi_y[c], sy, n.origin[1]);
-    hi_z[c] = dequantise(n.q_hi_z[c], sz, n.origin[2]);
+    p.lo_x[c] = dequantise(n.q_lo_x[c], sx, n.origin[0]);
+    p.lo_y[c] = dequantise(n.q_lo_y[c], sy, n.origin[1]);
+    p.lo_z[c] = dequantise(n.q_lo_z[c], sz, n.origin[2]);
+    p.hi_x[c] = dequantise(n.q_hi_x[c], sx, n.origin[0]);
+    p.hi_y[c] = dequantise(n.q_hi_y[c], sy, n.origin[1]);
+    p.hi_z[c] = dequantise(n.q_hi_z[c], sz, n.origin[2]);
   }
-  return pick_slabs(lo_x, lo_y, lo_z, hi_x, hi_y, hi_z, r);
+  return p;
+}
+
+// Then the near and far planes picked as for float boxes.
+RT_HD inline ChildSlabs<k_slots> slabs_of(const CompressedNode& n, const WideRay& r) {
+  const ChildPlanes p = dequantise_planes(n);
+  return pick_slabs(p.lo_x, p.lo_y, p.lo_z, p.hi_x, p.hi_y, p.hi_z, r);
 }
 // [/listing:compressed_slabs]
 
@@ -101,8 +109,8 @@ inline constexpr float k_exit_widening =
 // and the exit distance is widened, so a ray that touches a box in exact arithmetic is never
 // refused; tmax is widened by chapter 07's k_tmax_slack, so no box of a triangle the
 // triangle test hits before tmax is refused either. The loop has no branches and reads the
-// planes by coordinate, so on the CPU the compiler tests four boxes per SSE instruction; on the
-// GPU it is unrolled.
+// planes by coordinate; on the GPU it is unrolled. The CPU runs enter_children_cpu (below),
+// the same arithmetic arranged for its vector units.
 template <int N>
 RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay& r, float tmin,
                                      float tmax) {
@@ -135,6 +143,68 @@ RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay&
 }
 // [/listing:child_test]
 
+#if !defined(__CUDA_ARCH__)
+// [listing:child_test_cpu]
+// The same test on the CPU, the same arithmetic arranged for its vector units: one loop whose
+// every step the compiler turns into one instruction over all N children (8 floats fill one
+// AVX register), with no branch.
+//   - Each axis's near and far planes are chosen once per node, as whole arrays, not child by
+//     child.
+//   - `a > acc ? a : acc` is x86's own max (maxps: where a is NaN the comparison fails and acc
+//     wins). With the accumulator second, starting from tmin (or +inf for the exit), which is
+//     never NaN, a NaN distance is ignored exactly as max_ignoring_nan ignores it, with no
+//     extra compare: child for child the same answer as enter_children.
+//   - The answers go to an array and become the bit mask in a second loop: a loop that mixes
+//     floats with mask bits is one the compiler leaves scalar.
+inline float max_onto(float a, float acc) { return a > acc ? a : acc; }
+inline float min_onto(float a, float acc) { return a < acc ? a : acc; }
+
+template <int N>
+RT_INLINE_ON_CPU inline unsigned
+enter_children_cpu(const float (&lo_x)[N], const float (&lo_y)[N], const float (&lo_z)[N],
+                   const float (&hi_x)[N], const float (&hi_y)[N], const float (&hi_z)[N],
+                   const ch07::BoxRay& r, float tmin, float tmax) {
+  const float* near_x = r.negative[0] ? hi_x : lo_x;
+  const float* near_y = r.negative[1] ? hi_y : lo_y;
+  const float* near_z = r.negative[2] ? hi_z : lo_z;
+  const float* far_x = r.negative[0] ? lo_x : hi_x;
+  const float* far_y = r.negative[1] ? lo_y : hi_y;
+  const float* far_z = r.negative[2] ? lo_z : hi_z;
+  const float tmax_kept = tmax * ch07::k_tmax_slack;
+  const float infinity = std::numeric_limits<float>::infinity();
+  int entered[N];
+  for (int c = 0; c < N; ++c) {
+    const float t_enter =
+        max_onto((near_z[c] - r.origin.z) * r.inverse.z,
+                 max_onto((near_y[c] - r.origin.y) * r.inverse.y,
+                          max_onto((near_x[c] - r.origin.x) * r.inverse.x, tmin)));
+    const float t_exit =
+        min_onto((far_z[c] - r.origin.z) * r.inverse.z,
+                 min_onto((far_y[c] - r.origin.y) * r.inverse.y,
+                          min_onto((far_x[c] - r.origin.x) * r.inverse.x, infinity))) *
+        k_exit_widening;
+    entered[c] = t_enter <= min_onto(t_exit, tmax_kept) ? -1 : 0;
+  }
+  unsigned mask = 0;
+  for (int c = 0; c < N; ++c) mask |= unsigned(entered[c]) & (1u << c);
+  return mask;
+}
+// [/listing:child_test_cpu]
+
+template <int N>
+RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const WideNode<N>& n, const WideRay& r,
+                                                    float tmin, float tmax) {
+  return enter_children_cpu(n.lo_x, n.lo_y, n.lo_z, n.hi_x, n.hi_y, n.hi_z, r.box, tmin, tmax);
+}
+
+// The compressed node's planes dequantised first (dequantise_planes), then the same test.
+RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const CompressedNode& n, const WideRay& r,
+                                                    float tmin, float tmax) {
+  const ChildPlanes p = dequantise_planes(n);
+  return enter_children_cpu(p.lo_x, p.lo_y, p.lo_z, p.hi_x, p.hi_y, p.hi_z, r.box, tmin, tmax);
+}
+#endif
+
 // What one node read yields: the interior children the ray enters (bits 24..31, ordered for
 // its octant) with the node's imask in bits 0..7, and the triangles of the leaves it enters.
 struct NodeHits {
@@ -145,14 +215,19 @@ struct NodeHits {
 };
 
 template <class Node>
-RT_HD inline NodeHits intersect_node(const Node& n, const WideRay& r, float tmin, float tmax) {
-  const unsigned entered = enter_children(slabs_of(n, r), r.box, tmin, tmax);
+RT_INLINE_ON_CPU RT_HD inline NodeHits intersect_node(const Node& n, const WideRay& r,
+                                                      float tmin, float tmax) {
   unsigned bits = 0;
 #if defined(__CUDA_ARCH__)
+  const unsigned entered = enter_children(slabs_of(n, r), r.box, tmin, tmax);
 #pragma unroll
-#endif
   for (int c = 0; c < Node::k_width; ++c)
     bits |= (entered >> c) & 1u ? meta_bits(n.meta[c], r.octant_inverse) : 0u;
+#else // the children entered only: a few of the eight, one at a time
+  const unsigned entered = enter_children_cpu(n, r, tmin, tmax);
+  for (unsigned left = entered; left != 0; left &= left - 1)
+    bits |= meta_bits(n.meta[std::countr_zero(left)], r.octant_inverse);
+#endif
   return {(bits & 0xff000000u) | n.imask, bits & 0x00ffffffu, n.child_base, n.triangle_base};
 }
 
@@ -186,6 +261,31 @@ struct NodeGroup {
 };
 inline constexpr unsigned k_child_bits = 0xff000000u;
 
+// The triangle test of one ray: chapter 04's watertight test. On the CPU its per-ray part (the
+// permutation and the shear, three divisions) is made once per ray instead of once per
+// triangle, and `Axes` may fix the permutation when the code is compiled (trace_wide_cpu does,
+// wide_trace.cpp); the GPU keeps chapter 04's one call per triangle, the form its tables
+// measure.
+#if defined(__CUDA_ARCH__)
+struct WatertightTest {
+  __device__ explicit WatertightTest(const RayF&) {}
+  __device__ ch04::TriangleHitF operator()(const RayF& ray, const TriangleF& triangle) const {
+    return ch04::intersect_watertight(ray, triangle);
+  }
+};
+#else
+template <class Axes> struct FramedWatertightTest {
+  ch04::WatertightRay<float> frame;
+  explicit FramedWatertightTest(const RayF& ray) : frame(ch04::watertight_ray(ray)) {}
+  explicit FramedWatertightTest(const ch04::WatertightRay<float>& f) : frame(f) {}
+  ch04::TriangleHitF operator()(const RayF& ray, const TriangleF& triangle) {
+    frame.ray.tmax = ray.tmax; // the nearest hit so far
+    return ch04::intersect_watertight(frame, triangle, Axes{});
+  }
+};
+using WatertightTest = FramedWatertightTest<ch04::AxesOfFrame>;
+#endif
+
 // [listing:local_stack]
 // Where trace_wide keeps its stack is a policy: entry `entry` stored and loaded. This one, the
 // default and the only one the CPU uses, is the thread's own array of k_wide_stack_size
@@ -208,8 +308,9 @@ struct LocalStack {
 // starts as the only interior child, in slot 0, of a group based at node 0. Groups carry no
 // distance: one popped after a nearer hit is tested again with the shorter ray, and its
 // children's boxes reject what now lies beyond tmax. `Stack` says where the stack lives.
-template <Query kQuery, class Stack = LocalStack, class Tree, class C = ch07::NoCounters>
-RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}) {
+// `intersect` is the triangle test (WatertightTest or, on the CPU, one with fixed axes).
+template <Query kQuery, class Stack = LocalStack, class Tree, class C, class Test>
+RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters, Test intersect) {
   TraceHit hit;
   if (tree.node_count == 0 || !ch07::traceable(ray)) return hit;
   const WideRay r = make_wide_ray(ray);
@@ -235,8 +336,7 @@ RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}) {
     for (unsigned left = h.triangles; left != 0; left &= left - 1) {
       const int k = h.triangle_base + lowest_bit(left);
       counters.triangle();
-      const ch04::TriangleHitF t =
-          ch04::intersect_triangle(ch04::TriangleVariant::watertight, ray, tree.triangle(k));
+      const ch04::TriangleHitF t = intersect(ray, tree.triangle(k));
       if (!t.hit) continue;
       hit = {t.t, tree.triangle_id(k), t.u, t.v};
       ray.tmax = t.t;
@@ -245,5 +345,10 @@ RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}) {
   }
 }
 // [/listing:wide_traverse]
+
+template <Query kQuery, class Stack = LocalStack, class Tree, class C = ch07::NoCounters>
+RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}) {
+  return trace_wide<kQuery, Stack>(tree, ray, counters, WatertightTest(ray));
+}
 
 } // namespace rt::ch09

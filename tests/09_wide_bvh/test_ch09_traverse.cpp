@@ -83,7 +83,9 @@ TEST_CASE("far from the origin the wide trees still agree with brute force", "[c
   }
 }
 
-TEST_CASE("the child test decides as chapter 07's enter_box, box by box", "[ch09]") {
+TEST_CASE("the child test, and the CPU's vector form of it, decide as chapter 07's "
+          "enter_box, box by box",
+          "[ch09]") {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   std::uniform_int_distribution<int> pick(0, 9);
@@ -116,6 +118,7 @@ TEST_CASE("the child test decides as chapter 07's enter_box, box by box", "[ch09
     const RayF ray{o, d, 0.0f, pick(rng) < 2 ? 1.5f : k_inf};
     const WideRay r = make_wide_ray(ray);
     const unsigned mask = enter_children(slabs_of(node, r), r.box, ray.tmin, ray.tmax);
+    CHECK(enter_children_cpu(node, r, ray.tmin, ray.tmax) == mask);
     for (int c = 0; c < 8; ++c) {
       float t = 0.0f;
       const bool expected =
