@@ -12,7 +12,9 @@
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
 # memory paths, `bench09` chapter 09's wide trees against the binary one, `bench10` chapter 10's
 # builders on the benchmark set and its moving scene, rebuilt against refitted, `bench11` chapter
-# 11's kernels at 1920x1080 and its convergence report. `sass` counts the
+# 11's kernels at 1920x1080 and its convergence report; `window11` opens chapter 11 in the
+# window at 1920x1080 on Sponza and the conference room (its frame rate), and the moving scenes
+# of chapters 10 and 11. `sass` counts the
 # load instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
 # cache hit rates with Nsight Compute (ncu), where it runs.
 #
