@@ -464,13 +464,7 @@ int run_embree_compare(int argc, char** argv, const EmbreeCompareProgram& progra
   CLI::App app{program.title, program.name};
   CompareOptions options;
   options.tracer = program.tracers.at(0);
-  const auto side = CLI::Range(1, k_max_image_side);
-  app.add_option("--width", options.width, "Image width in pixels")
-      ->check(side)
-      ->capture_default_str();
-  app.add_option("--height", options.height, "Image height in pixels")
-      ->check(side)
-      ->capture_default_str();
+  add_image_size_options(app, options.width, options.height);
   app.add_option("--tracer", options.tracer, "Ours: " + joined(program.tracers))
       ->capture_default_str();
   app.add_option("--threads", options.threads,

@@ -37,14 +37,27 @@ void add_help_paragraph(CLI::App& app, const std::string& paragraph) {
   app.footer(footer.empty() ? paragraph : footer + "\n\n" + paragraph);
 }
 
-void add_common_options(CLI::App& app, CommonOptions& options) {
+void add_image_size_options(CLI::App& app, int& width, int& height) {
   const auto side = CLI::Range(1, k_max_image_side);
-  app.add_option("--width", options.width, "Image width in pixels")
+  app.add_option("--width", width, "Image width in pixels")->check(side)->capture_default_str();
+  app.add_option("--height", height, "Image height in pixels")
       ->check(side)
       ->capture_default_str();
-  app.add_option("--height", options.height, "Image height in pixels")
-      ->check(side)
-      ->capture_default_str();
+  app.final_callback([&width, &height] {
+    const long long pixels = Extent{width, height}.pixel_count();
+    if (pixels > k_max_image_pixels)
+      throw CLI::ValidationError("--width and --height",
+                                 std::to_string(width) + "x" + std::to_string(height) + " is " +
+                                     std::to_string(pixels) + " pixels, more than the " +
+                                     std::to_string(k_max_image_pixels) + " an image may have");
+  });
+  add_help_paragraph(app, "Images: at most " + std::to_string(k_max_image_side) +
+                              " pixels a side and " + std::to_string(k_max_image_pixels) +
+                              " in all (8K UHD fits).");
+}
+
+void add_common_options(CLI::App& app, CommonOptions& options) {
+  add_image_size_options(app, options.width, options.height);
   app.add_option("-o,--output", options.output, "Image file to write (.png or .pfm)")
       ->capture_default_str();
   app.add_option_function<std::string>(
@@ -57,18 +70,8 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                  "Timed runs per variant (default: 50 on the GPU, 5 on the CPU)")
       ->check(CLI::Range(1, 100000));
   app.add_option("--json", options.json, "Also write the report as JSON to this file");
-  app.final_callback([&options] {
-    if (options.extent().pixel_count() > k_max_image_pixels)
-      throw CLI::ValidationError(
-          "--width and --height",
-          std::to_string(options.width) + "x" + std::to_string(options.height) + " is " +
-              std::to_string(options.extent().pixel_count()) + " pixels, more than the " +
-              std::to_string(k_max_image_pixels) + " an image may have");
-  });
-  add_help_paragraph(app, "Images: at most " + std::to_string(k_max_image_side) +
-                              " pixels a side and " + std::to_string(k_max_image_pixels) +
-                              " in all (8K UHD fits). Output files are written whole or not "
-                              "at all: a failed write leaves what was at the path.");
+  add_help_paragraph(app, "Output files are written whole or not at all: a failed write "
+                          "leaves what was at the path.");
 }
 
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {

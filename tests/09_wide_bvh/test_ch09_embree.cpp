@@ -60,7 +60,9 @@ TEST_CASE("embree compare: the wide trees hit what Embree hits, up to ties", "[c
   }
 }
 
-TEST_CASE("embree compare: an unknown tracer or another thread count is refused", "[ch09]") {
+TEST_CASE("embree compare: an unknown tracer, another thread count or an absurd image is "
+          "refused",
+          "[ch09]") {
   ProgramRun run = rt::testing::run_command(k_program + " --tracer wide16 " + k_room);
   CHECK(run.exit_code == 2);
   CHECK(line_count(run.output) == 1);
@@ -72,6 +74,12 @@ TEST_CASE("embree compare: an unknown tracer or another thread count is refused"
   CHECK(run.exit_code == 2);
   CHECK(line_count(run.output) == 1);
   CHECK_THAT(run.output, contains("RT_CPU_THREADS=2"));
+
+  // A side within the limit, a total beyond it: refused before a ray is made.
+  run = rt::testing::run_command(k_program + " --width 16384 --height 16384 " + k_room);
+  CHECK(run.exit_code == 2);
+  CHECK(line_count(run.output) == 1);
+  CHECK_THAT(run.output, contains("268435456 pixels"));
 }
 
 #endif

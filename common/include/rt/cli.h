@@ -42,8 +42,12 @@ CLI::Option* add_on_off_option(CLI::App& app, const std::string& name, bool& val
 // Adds a paragraph to the end of `app`'s --help text (its footer), after what is there.
 void add_help_paragraph(CLI::App& app, const std::string& paragraph);
 
-// Adds --width, --height, --output, --backend, --frames and --json to `app`; refuses, after
-// parsing, an image of more than k_max_image_pixels pixels. Sets the app's final callback.
+// Adds --width and --height to `app` (each 1 .. k_max_image_side) and refuses, after parsing,
+// an image of more than k_max_image_pixels pixels. Sets the app's final callback.
+void add_image_size_options(CLI::App& app, int& width, int& height);
+
+// Adds the image size (add_image_size_options), --output, --backend, --frames and --json to
+// `app`.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
 // Parses the command line and runs `body`. Prints "<program>: error: <message>" on any error
