@@ -158,6 +158,27 @@ RT_INLINE_ON_CPU RT_HD inline TriangleHit<T> intersect_watertight(const Watertig
 }
 // [/listing:watertight_distance]
 
+// Calls fn(FixedAxes<...>{}) with the frame's own permutation, one of six: the largest
+// direction component (kz) and the order of the other two. For a caller that compiles its
+// triangle test once per case (chapter 09's CPU traversal).
+template <class T, class Fn>
+decltype(auto) with_fixed_axes(const WatertightRay<T>& frame, Fn fn) {
+  switch (frame.kz * 3 + frame.kx) {
+  case 0 * 3 + 1:
+    return fn(FixedAxes<1, 2, 0>{});
+  case 0 * 3 + 2:
+    return fn(FixedAxes<2, 1, 0>{});
+  case 1 * 3 + 2:
+    return fn(FixedAxes<2, 0, 1>{});
+  case 1 * 3 + 0:
+    return fn(FixedAxes<0, 2, 1>{});
+  case 2 * 3 + 0:
+    return fn(FixedAxes<0, 1, 2>{});
+  default:
+    return fn(FixedAxes<1, 0, 2>{}); // kz 2, kx 1: watertight_ray makes no other case
+  }
+}
+
 // The test in one call, as every chapter but 09's CPU traversal uses it.
 template <class T> RT_HD TriangleHit<T> intersect_watertight(Ray<T> ray, Triangle<T> tri) {
   return intersect_watertight(watertight_ray(ray), tri);

@@ -14,24 +14,9 @@ namespace {
 // largest direction component (kz) and the order of the other two, six cases in all.
 template <Query kQuery, class View> TraceHit trace_one(const View& tree, const RayF& ray) {
   const ch04::WatertightRay<float> frame = ch04::watertight_ray(ray);
-  const auto trace = [&]<int X, int Y, int Z>() {
-    return trace_wide<kQuery>(tree, ray, ch07::NoCounters{},
-                              FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>(frame));
-  };
-  switch (frame.kz * 3 + frame.kx) {
-  case 0 * 3 + 1:
-    return trace.template operator()<1, 2, 0>();
-  case 0 * 3 + 2:
-    return trace.template operator()<2, 1, 0>();
-  case 1 * 3 + 2:
-    return trace.template operator()<2, 0, 1>();
-  case 1 * 3 + 0:
-    return trace.template operator()<0, 2, 1>();
-  case 2 * 3 + 0:
-    return trace.template operator()<0, 1, 2>();
-  default:
-    return trace.template operator()<1, 0, 2>(); // kz 2, kx 1
-  }
+  return ch04::with_fixed_axes(frame, [&]<class Axes>(Axes) {
+    return trace_wide<kQuery>(tree, ray, ch07::NoCounters{}, FramedWatertightTest<Axes>(frame));
+  });
 }
 
 template <class View> TraceHit trace_one(Query query, const View& tree, const RayF& ray) {
