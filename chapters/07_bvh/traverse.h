@@ -31,7 +31,7 @@ struct TraceHit {
 // Whether a ray can be traced at all. NaN or infinity in the origin or direction, a zero
 // direction or NaN bounds would send NaN through every box test: such a ray misses at once,
 // before the traversal touches the tree.
-RT_HD inline bool traceable(const RayF& ray) {
+RT_INLINE_ON_CPU RT_HD inline bool traceable(const RayF& ray) {
   const Vec3f o = ray.origin, d = ray.direction;
   const bool finite = ch04::is_finite(o.x) && ch04::is_finite(o.y) && ch04::is_finite(o.z) &&
                       ch04::is_finite(d.x) && ch04::is_finite(d.y) && ch04::is_finite(d.z);
