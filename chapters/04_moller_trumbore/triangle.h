@@ -90,7 +90,7 @@ template <class T> struct WatertightRay {
   T shear_x, shear_y, shear_z; // the shear that makes the direction (0, 0, 1)
 };
 
-template <class T> RT_HD WatertightRay<T> watertight_ray(Ray<T> ray) {
+template <class T> RT_INLINE_ON_CPU RT_HD inline WatertightRay<T> watertight_ray(Ray<T> ray) {
   // 1. Permute the axes so that z is the direction's largest component (no division by a
   // small number), swapping x and y when z is negative to keep the winding.
   const Vec3<T> d = ray.direction;

@@ -24,16 +24,41 @@ using ch07::TraceHit;
 
 // What every node test of one ray shares: chapter 07's box ray (origin, 1/direction and the
 // signs that pick each axis's near plane) and the ray's octant, inverted.
+#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
+// On a CPU with AVX2, the same ray broadcast over the eight lanes of a vector register, once
+// per ray, for the eight-wide node reads (node_bits_avx2, below).
+struct EightLaneRay {
+  __m256 origin_x, origin_y, origin_z, inverse_x, inverse_y, inverse_z;
+  __m256 negative_x, negative_y, negative_z; // all ones where the ray goes the negative way
+  __m256i octant_inverse;
+};
+#endif
+
 struct WideRay {
   ch07::BoxRay box;
   unsigned octant_inverse; // 7 - octant, octant bit k set where 1/direction_k < 0
+#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
+  EightLaneRay lanes;
+#endif
 };
 
 RT_INLINE_ON_CPU RT_HD inline WideRay make_wide_ray(const RayF& ray) {
   const ch07::BoxRay box = ch07::make_box_ray(ray);
   const unsigned octant =
       (box.negative[0] ? 1u : 0u) | (box.negative[1] ? 2u : 0u) | (box.negative[2] ? 4u : 0u);
+#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
+  const auto sign = [](bool negative) {
+    return _mm256_castsi256_ps(_mm256_set1_epi32(negative ? -1 : 0));
+  };
+  const EightLaneRay lanes{_mm256_set1_ps(box.origin.x),  _mm256_set1_ps(box.origin.y),
+                           _mm256_set1_ps(box.origin.z),  _mm256_set1_ps(box.inverse.x),
+                           _mm256_set1_ps(box.inverse.y), _mm256_set1_ps(box.inverse.z),
+                           sign(box.negative[0]),         sign(box.negative[1]),
+                           sign(box.negative[2]),         _mm256_set1_epi32(int(7u - octant))};
+  return {box, 7u - octant, lanes};
+#else
   return {box, 7u - octant};
+#endif
 }
 
 // The planes of N child boxes, nearer plane and farther plane per axis for this ray's signs.
@@ -160,7 +185,8 @@ RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay&
 //     never NaN, a NaN distance is ignored exactly as max_ignoring_nan ignores it, with no
 //     extra compare: child for child the same answer as enter_children.
 //   - The answers go to an array and become the bit mask in a second loop: a loop that mixes
-//     floats with mask bits is one the compiler leaves scalar.
+//     floats with mask bits is one the compiler leaves scalar. (GCC still gathers that mask
+//     lane by lane; with AVX2, node_bits_avx2 below takes it in one instruction.)
 inline float max_onto(float a, float acc) { return a > acc ? a : acc; }
 inline float min_onto(float a, float acc) { return a < acc ? a : acc; }
 
@@ -223,24 +249,7 @@ RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const CompressedNode& n, con
 //     NaN is ignored as before.
 //   - The eight meta bytes become eight hit-mask contributions at once (meta_bits, lane by
 //     lane: a variable shift per lane), the lanes not entered are zeroed by the comparison's
-//     own mask, and the eight are ORed together. Children set disjoint bits, so nothing is
-//     lost in the OR.
-struct EightLaneRay {
-  __m256 origin_x, origin_y, origin_z, inverse_x, inverse_y, inverse_z;
-  __m256 negative_x, negative_y, negative_z; // all ones where the ray goes the negative way
-  __m256i octant_inverse;
-};
-
-RT_INLINE_ON_CPU inline EightLaneRay eight_lane_ray(const WideRay& r) {
-  const auto sign = [](bool negative) {
-    return _mm256_castsi256_ps(_mm256_set1_epi32(negative ? -1 : 0));
-  };
-  return {_mm256_set1_ps(r.box.origin.x),  _mm256_set1_ps(r.box.origin.y),
-          _mm256_set1_ps(r.box.origin.z),  _mm256_set1_ps(r.box.inverse.x),
-          _mm256_set1_ps(r.box.inverse.y), _mm256_set1_ps(r.box.inverse.z),
-          sign(r.box.negative[0]),         sign(r.box.negative[1]),
-          sign(r.box.negative[2]),         _mm256_set1_epi32(int(r.octant_inverse))};
-}
+//     own mask, and the eight are ORed together as the loop ORs them.
 
 // All ones in the lanes of the children the ray enters within [tmin, tmax].
 RT_INLINE_ON_CPU inline __m256 enter_eight(const float* lo_x, const float* lo_y,
@@ -291,7 +300,9 @@ RT_INLINE_ON_CPU inline unsigned eight_meta_bits(__m256 entered,
   x = _mm_or_si128(x, _mm_shuffle_epi32(x, 1));
   return static_cast<unsigned>(_mm_cvtsi128_si32(x));
 }
+// [/listing:node_avx2]
 
+// Both kinds of eight-wide node: the compressed one dequantised first.
 RT_INLINE_ON_CPU inline unsigned node_bits_avx2(const WideNode<8>& n, const EightLaneRay& r,
                                                 float tmin, float tmax) {
   return eight_meta_bits(
@@ -305,7 +316,6 @@ RT_INLINE_ON_CPU inline unsigned node_bits_avx2(const CompressedNode& n, const E
       enter_eight(p.lo_x, p.lo_y, p.lo_z, p.hi_x, p.hi_y, p.hi_z, r, tmin, tmax), n.meta,
       r.octant_inverse);
 }
-// [/listing:node_avx2]
 #endif
 #endif
 
@@ -330,9 +340,7 @@ RT_INLINE_ON_CPU RT_HD inline NodeHits intersect_node(const Node& n, const WideR
 #else
 #if defined(__AVX2__)
   if constexpr (Node::k_width == 8) {
-    // The ray's lanes are made here but depend on the ray alone: the compiler lifts them out
-    // of the traversal loop.
-    bits = node_bits_avx2(n, eight_lane_ray(r), tmin, tmax);
+    bits = node_bits_avx2(n, r.lanes, tmin, tmax);
   } else
 #endif
   { // the children entered only: a few of the eight, one at a time
