@@ -27,10 +27,12 @@ using ch07::TraceHit;
 #if !defined(__CUDA_ARCH__) && defined(__AVX2__)
 // On a CPU with AVX2, the same ray broadcast over the eight lanes of a vector register, once
 // per ray, for the eight-wide node reads (node_bits_avx2, below).
+// With it, the byte offsets of the near and far planes of each axis in a node's six plane
+// arrays (lo_x lo_y lo_z hi_x hi_y hi_z, 8 floats each): the ray's signs pick them once.
 struct EightLaneRay {
   __m256 origin_x, origin_y, origin_z, inverse_x, inverse_y, inverse_z;
-  __m256 negative_x, negative_y, negative_z; // all ones where the ray goes the negative way
   __m256i octant_inverse;
+  int near_x, near_y, near_z, far_x, far_y, far_z;
 };
 #endif
 
@@ -47,14 +49,14 @@ RT_INLINE_ON_CPU RT_HD inline WideRay make_wide_ray(const RayF& ray) {
   const unsigned octant =
       (box.negative[0] ? 1u : 0u) | (box.negative[1] ? 2u : 0u) | (box.negative[2] ? 4u : 0u);
 #if !defined(__CUDA_ARCH__) && defined(__AVX2__)
-  const auto sign = [](bool negative) {
-    return _mm256_castsi256_ps(_mm256_set1_epi32(negative ? -1 : 0));
-  };
+  constexpr int k_array = 8 * sizeof(float), k_hi = 3 * k_array; // bytes
+  const auto near = [&](int axis) { return axis * k_array + (box.negative[axis] ? k_hi : 0); };
+  const auto far = [&](int axis) { return axis * k_array + (box.negative[axis] ? 0 : k_hi); };
   const EightLaneRay lanes{_mm256_set1_ps(box.origin.x),  _mm256_set1_ps(box.origin.y),
                            _mm256_set1_ps(box.origin.z),  _mm256_set1_ps(box.inverse.x),
                            _mm256_set1_ps(box.inverse.y), _mm256_set1_ps(box.inverse.z),
-                           sign(box.negative[0]),         sign(box.negative[1]),
-                           sign(box.negative[2]),         _mm256_set1_epi32(int(7u - octant))};
+                           _mm256_set1_epi32(int(7u - octant)),
+                           near(0), near(1), near(2), far(0), far(1), far(2)};
   return {box, 7u - octant, lanes};
 #else
   return {box, 7u - octant};
@@ -243,38 +245,34 @@ RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const CompressedNode& n, con
 // above but not the two steps around it: it turns the eight answers into a mask lane by lane
 // (about 25 instructions where one movemask does), and it reads the children's meta bytes one
 // entered child at a time, a loop of unpredictable length. Here:
-//   - Both planes of each axis are turned into distances, and a blend picks near and far by
-//     the ray's sign (a mask made once per ray): per child the very operations of the loop.
+//   - The near and far planes of each axis are read at byte offsets the ray's signs chose
+//     once (make_wide_ray), so a node costs six loads and no selects: per child the very
+//     operations of the loop.
 //   - _mm256_max_ps(a, acc) is a > acc ? a : acc, max_onto exactly (and min likewise), so
 //     NaN is ignored as before.
 //   - The eight meta bytes become eight hit-mask contributions at once (meta_bits, lane by
 //     lane: a variable shift per lane), the lanes not entered are zeroed by the comparison's
 //     own mask, and the eight are ORed together as the loop ORs them.
 
-// All ones in the lanes of the children the ray enters within [tmin, tmax].
-RT_INLINE_ON_CPU inline __m256 enter_eight(const float* lo_x, const float* lo_y,
-                                           const float* lo_z, const float* hi_x,
-                                           const float* hi_y, const float* hi_z,
-                                           const EightLaneRay& r, float tmin, float tmax) {
-  const auto distance = [](const float* plane, __m256 origin, __m256 inverse) {
+// All ones in the lanes of the children the ray enters within [tmin, tmax]. `planes` is the
+// first byte of the six plane arrays.
+RT_INLINE_ON_CPU inline __m256 enter_eight(const void* planes, const EightLaneRay& r,
+                                           float tmin, float tmax) {
+  const auto distance = [&](int offset, __m256 origin, __m256 inverse) {
+    const float* plane =
+        reinterpret_cast<const float*>(static_cast<const char*>(planes) + offset);
     return _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(plane), origin), inverse);
   };
-  const __m256 lo_tx = distance(lo_x, r.origin_x, r.inverse_x);
-  const __m256 hi_tx = distance(hi_x, r.origin_x, r.inverse_x);
-  const __m256 lo_ty = distance(lo_y, r.origin_y, r.inverse_y);
-  const __m256 hi_ty = distance(hi_y, r.origin_y, r.inverse_y);
-  const __m256 lo_tz = distance(lo_z, r.origin_z, r.inverse_z);
-  const __m256 hi_tz = distance(hi_z, r.origin_z, r.inverse_z);
   const __m256 t_enter = _mm256_max_ps(
-      _mm256_blendv_ps(lo_tz, hi_tz, r.negative_z),
-      _mm256_max_ps(_mm256_blendv_ps(lo_ty, hi_ty, r.negative_y),
-                    _mm256_max_ps(_mm256_blendv_ps(lo_tx, hi_tx, r.negative_x),
+      distance(r.near_z, r.origin_z, r.inverse_z),
+      _mm256_max_ps(distance(r.near_y, r.origin_y, r.inverse_y),
+                    _mm256_max_ps(distance(r.near_x, r.origin_x, r.inverse_x),
                                   _mm256_set1_ps(tmin))));
   const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
   const __m256 t_exit = _mm256_mul_ps(
-      _mm256_min_ps(_mm256_blendv_ps(hi_tz, lo_tz, r.negative_z),
-                    _mm256_min_ps(_mm256_blendv_ps(hi_ty, lo_ty, r.negative_y),
-                                  _mm256_min_ps(_mm256_blendv_ps(hi_tx, lo_tx, r.negative_x),
+      _mm256_min_ps(distance(r.far_z, r.origin_z, r.inverse_z),
+                    _mm256_min_ps(distance(r.far_y, r.origin_y, r.inverse_y),
+                                  _mm256_min_ps(distance(r.far_x, r.origin_x, r.inverse_x),
                                                 infinity))),
       _mm256_set1_ps(k_exit_widening));
   const __m256 tmax_kept = _mm256_set1_ps(tmax * ch07::k_tmax_slack);
@@ -302,19 +300,18 @@ RT_INLINE_ON_CPU inline unsigned eight_meta_bits(__m256 entered,
 }
 // [/listing:node_avx2]
 
-// Both kinds of eight-wide node: the compressed one dequantised first.
+// Both kinds of eight-wide node, whose planes lie as enter_eight reads them: the compressed
+// one dequantised first.
+static_assert(offsetof(WideNode<8>, lo_x) == 0 && offsetof(WideNode<8>, hi_z) == 5 * 32);
+static_assert(offsetof(ChildPlanes, lo_x) == 0 && offsetof(ChildPlanes, hi_z) == 5 * 32);
 RT_INLINE_ON_CPU inline unsigned node_bits_avx2(const WideNode<8>& n, const EightLaneRay& r,
                                                 float tmin, float tmax) {
-  return eight_meta_bits(
-      enter_eight(n.lo_x, n.lo_y, n.lo_z, n.hi_x, n.hi_y, n.hi_z, r, tmin, tmax), n.meta,
-      r.octant_inverse);
+  return eight_meta_bits(enter_eight(&n, r, tmin, tmax), n.meta, r.octant_inverse);
 }
 RT_INLINE_ON_CPU inline unsigned node_bits_avx2(const CompressedNode& n, const EightLaneRay& r,
                                                 float tmin, float tmax) {
   const ChildPlanes p = dequantise_planes(n);
-  return eight_meta_bits(
-      enter_eight(p.lo_x, p.lo_y, p.lo_z, p.hi_x, p.hi_y, p.hi_z, r, tmin, tmax), n.meta,
-      r.octant_inverse);
+  return eight_meta_bits(enter_eight(&p, r, tmin, tmax), n.meta, r.octant_inverse);
 }
 #endif
 #endif
