@@ -201,6 +201,11 @@ template <class Node, class Triangles = AlignedTriangles> struct WideTreeView {
   const Node* nodes = nullptr;
   const Record* triangles = nullptr;
   int node_count = 0; // 0 only for a mesh with no triangles
+  // Host trees only: the same triangles by coordinate, nine columns of column_stride floats
+  // (v0.x v0.y v0.z v1.x ... v2.z, column c from columns + c * column_stride), for the CPU's
+  // eight-at-once triangle test (test_triangles, wide_traverse.h). Null on the GPU.
+  const float* columns = nullptr;
+  int column_stride = 0;
 
   // The GPU copies a node into registers in 16-byte loads; the CPU reads it where it lies
   // (a copy of 224 bytes per node read would cost more than the test).
@@ -248,9 +253,14 @@ template <class Node, class Triangles = AlignedTriangles> struct WideTree {
   using View = WideTreeView<Node, Triangles>;
   std::vector<Node> nodes; // node 0 is the root
   std::vector<typename Triangles::Record> triangles;
+  std::vector<float> columns; // host only (see WideTreeView); not in stats.bytes_per_triangle
+  int column_stride = 0;
   WideStats stats;
 
-  View view() const { return {nodes.data(), triangles.data(), static_cast<int>(nodes.size())}; }
+  View view() const {
+    return {nodes.data(), triangles.data(), static_cast<int>(nodes.size()),
+            columns.empty() ? nullptr : columns.data(), column_stride};
+  }
 };
 
 using Wide4Bvh = WideTree<WideNode<4>>;

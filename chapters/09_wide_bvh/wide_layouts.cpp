@@ -34,6 +34,16 @@ void finish(WideTree<Node, Triangles>& tree, const WideLayout& layout,
     std::memcpy(&id, &layout.triangle_ids[k], sizeof id);
     append_records(tree.triangles, layout.triangles[k], id);
   }
+  // The columns, padded so that a read of eight from any triangle stays inside.
+  const int count = static_cast<int>(layout.triangles.size());
+  tree.column_stride = (count + 2 * 8 - 1) / 8 * 8;
+  tree.columns.assign(9 * static_cast<std::size_t>(tree.column_stride), 0.0f);
+  for (int k = 0; k < count; ++k) {
+    const TriangleF& t = layout.triangles[k];
+    const Vec3f v[3] = {t.v0, t.v1, t.v2};
+    for (int c = 0; c < 9; ++c)
+      tree.columns[static_cast<std::size_t>(c) * tree.column_stride + k] = v[c / 3][c % 3];
+  }
   tree.stats = layout.stats;
   tree.stats.build_ms +=
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
