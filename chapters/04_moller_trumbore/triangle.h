@@ -138,16 +138,11 @@ RT_INLINE_ON_CPU RT_HD inline TriangleHit<T> intersect_watertight(const Watertig
   const T u_edge = difference_of_products(cx, by, cy, bx); // edge v1 v2: weight of v0
   const T v_edge = difference_of_products(ax, cy, ay, cx); // edge v2 v0: weight of v1
   const T w_edge = difference_of_products(bx, ay, by, ax); // edge v0 v1: weight of v2
-  // Inside: the three have one sign (zeros allowed), so the smallest is >= 0 or the largest
-  // <= 0; and det != 0, or the ray lies in the plane (or the triangle is a segment). Written
-  // with `&` and `|`, not `&&` and `||`, it is one branch: most triangles a ray meets are
-  // misses, which a CPU predicts well as one branch and poorly as a chain of six that each
-  // depend on the data. A NaN edge makes det NaN, which fails both of its comparisons.
-  const T lowest = min_of(min_of(u_edge, v_edge), w_edge);
-  const T highest = max_of(max_of(u_edge, v_edge), w_edge);
+  const bool inside = (u_edge >= T(0) && v_edge >= T(0) && w_edge >= T(0)) ||
+                      (u_edge <= T(0) && v_edge <= T(0) && w_edge <= T(0));
+  if (!inside) return {};
   const T det = u_edge + v_edge + w_edge;
-  const bool inside = (lowest >= T(0)) | (highest <= T(0));
-  if (!(inside & ((det < T(0)) | (det > T(0))))) return {};
+  if (det == T(0)) return {}; // the ray lies in the plane, or the triangle is a segment
   // [/listing:watertight_edges]
   // [listing:watertight_distance]
   // 4. Distance: interpolate the moved z coordinates, scaled back to units of d. The sum is

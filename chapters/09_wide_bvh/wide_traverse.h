@@ -445,11 +445,11 @@ RT_INLINE_ON_CPU RT_HD inline bool test_triangles(const Tree& tree, int base, un
 // [listing:triangles_avx2]
 // On a CPU with AVX2 and FMA, for the traversal with the axes fixed (trace_wide_cpu), eight
 // triangles at a time from the tree's columns: chapter 04's watertight test lane by lane,
-// operation for operation (its fused_multiply_adds are the FMA instructions, the others
-// rounded singly as the scalar code is), so each lane gives the scalar test's answer. Which
-// lane wins is the scalar loop's rule: the nearest t, and of equal ones the lowest bit.
-// Eight loads per coordinate replace up to eight rounds of nine scalar loads and six data-
-// dependent branches.
+// every value computed by the same operations (its fused_multiply_adds are FMA instructions,
+// the rest rounded singly as the scalar code is) and every decision the same, so each lane
+// gives the scalar test's answer bit for bit. Which lane wins is the scalar loop's rule: the
+// nearest t, and of equal ones the lowest bit. One load per coordinate for eight triangles
+// replaces eight rounds of nine scalar loads and the data-dependent branches of each test.
 struct EightTriangleHits {
   __m256 t, v_edge, w_edge, inverse_det;
   unsigned hit; // lanes whose triangle is hit within (tmin, tmax)
@@ -483,7 +483,9 @@ intersect_eight(const float* columns, int stride, int k, const ch04::WatertightR
   const __m256 u_edge = dop(c.x, b.y, c.y, b.x);
   const __m256 v_edge = dop(a.x, c.y, a.y, c.x);
   const __m256 w_edge = dop(b.x, a.y, b.y, a.x);
-  // min_of(p, q) is q < p ? q : p, _mm256_min_ps(q, p); max_of likewise.
+  // Chapter 04's inside test, all signs the same (zeros allowed), then det != 0, decided
+  // as one: the smallest edge >= 0 or the largest <= 0, and det < 0 or det > 0. A NaN edge
+  // fails chapter 04's comparisons and here makes det NaN, which fails both of its.
   const __m256 lowest = _mm256_min_ps(w_edge, _mm256_min_ps(v_edge, u_edge));
   const __m256 highest = _mm256_max_ps(w_edge, _mm256_max_ps(v_edge, u_edge));
   const __m256 det = _mm256_add_ps(_mm256_add_ps(u_edge, v_edge), w_edge);
