@@ -52,11 +52,19 @@ RT_INLINE_ON_CPU RT_HD inline WideRay make_wide_ray(const RayF& ray) {
   constexpr int k_array = 8 * sizeof(float), k_hi = 3 * k_array; // bytes
   const auto near = [&](int axis) { return axis * k_array + (box.negative[axis] ? k_hi : 0); };
   const auto far = [&](int axis) { return axis * k_array + (box.negative[axis] ? 0 : k_hi); };
-  const EightLaneRay lanes{_mm256_set1_ps(box.origin.x),  _mm256_set1_ps(box.origin.y),
-                           _mm256_set1_ps(box.origin.z),  _mm256_set1_ps(box.inverse.x),
-                           _mm256_set1_ps(box.inverse.y), _mm256_set1_ps(box.inverse.z),
+  const EightLaneRay lanes{_mm256_set1_ps(box.origin.x),
+                           _mm256_set1_ps(box.origin.y),
+                           _mm256_set1_ps(box.origin.z),
+                           _mm256_set1_ps(box.inverse.x),
+                           _mm256_set1_ps(box.inverse.y),
+                           _mm256_set1_ps(box.inverse.z),
                            _mm256_set1_epi32(int(7u - octant)),
-                           near(0), near(1), near(2), far(0), far(1), far(2)};
+                           near(0),
+                           near(1),
+                           near(2),
+                           far(0),
+                           far(1),
+                           far(2)};
   return {box, 7u - octant, lanes};
 #else
   return {box, 7u - octant};
@@ -192,7 +200,6 @@ RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay&
 inline float max_onto(float a, float acc) { return a > acc ? a : acc; }
 inline float min_onto(float a, float acc) { return a < acc ? a : acc; }
 
-
 template <int N>
 RT_INLINE_ON_CPU inline unsigned
 enter_children_cpu(const float (&lo_x)[N], const float (&lo_y)[N], const float (&lo_z)[N],
@@ -263,26 +270,25 @@ RT_INLINE_ON_CPU inline __m256 enter_eight(const void* planes, const EightLaneRa
         reinterpret_cast<const float*>(static_cast<const char*>(planes) + offset);
     return _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(plane), origin), inverse);
   };
-  const __m256 t_enter = _mm256_max_ps(
-      distance(r.near_z, r.origin_z, r.inverse_z),
-      _mm256_max_ps(distance(r.near_y, r.origin_y, r.inverse_y),
-                    _mm256_max_ps(distance(r.near_x, r.origin_x, r.inverse_x),
-                                  _mm256_set1_ps(tmin))));
+  const __m256 t_enter =
+      _mm256_max_ps(distance(r.near_z, r.origin_z, r.inverse_z),
+                    _mm256_max_ps(distance(r.near_y, r.origin_y, r.inverse_y),
+                                  _mm256_max_ps(distance(r.near_x, r.origin_x, r.inverse_x),
+                                                _mm256_set1_ps(tmin))));
   const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
   const __m256 t_exit = _mm256_mul_ps(
-      _mm256_min_ps(distance(r.far_z, r.origin_z, r.inverse_z),
-                    _mm256_min_ps(distance(r.far_y, r.origin_y, r.inverse_y),
-                                  _mm256_min_ps(distance(r.far_x, r.origin_x, r.inverse_x),
-                                                infinity))),
+      _mm256_min_ps(
+          distance(r.far_z, r.origin_z, r.inverse_z),
+          _mm256_min_ps(distance(r.far_y, r.origin_y, r.inverse_y),
+                        _mm256_min_ps(distance(r.far_x, r.origin_x, r.inverse_x), infinity))),
       _mm256_set1_ps(k_exit_widening));
   const __m256 tmax_kept = _mm256_set1_ps(tmax * ch07::k_tmax_slack);
   return _mm256_cmp_ps(t_enter, _mm256_min_ps(t_exit, tmax_kept), _CMP_LE_OQ);
 }
 
 // meta_bits of the eight children, ORed over the lanes of `entered`.
-RT_INLINE_ON_CPU inline unsigned eight_meta_bits(__m256 entered,
-                                                 const std::uint8_t (&meta)[k_slots],
-                                                 __m256i octant_inverse) {
+RT_INLINE_ON_CPU inline unsigned
+eight_meta_bits(__m256 entered, const std::uint8_t (&meta)[k_slots], __m256i octant_inverse) {
   std::uint64_t bytes;
   std::memcpy(&bytes, meta, sizeof bytes);
   const __m256i m = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(bytes)));
@@ -312,7 +318,7 @@ RT_INLINE_ON_CPU inline unsigned node_bits_avx2(const CompressedNode& n, const E
                                                 float tmin, float tmax) {
   // dequantise_planes eight at a time: q to float, times the step, plus the origin (the same
   // two roundings, of which the first is exact).
-  const auto plane = [](const std::uint8_t (&q)[k_slots], std::uint8_t exponent, float origin) {
+  const auto plane = [](const std::uint8_t(&q)[k_slots], std::uint8_t exponent, float origin) {
     std::uint64_t bytes;
     std::memcpy(&bytes, q, sizeof bytes);
     const __m256 grid = _mm256_cvtepi32_ps(
@@ -457,8 +463,8 @@ struct EightTriangleHits {
 
 template <int X, int Y, int Z>
 RT_INLINE_ON_CPU inline EightTriangleHits
-intersect_eight(const float* columns, int stride, int k, const ch04::WatertightRay<float>& frame,
-                const RayF& ray) {
+intersect_eight(const float* columns, int stride, int k,
+                const ch04::WatertightRay<float>& frame, const RayF& ray) {
   const __m256 sx = _mm256_set1_ps(frame.shear_x), sy = _mm256_set1_ps(frame.shear_y),
                sz = _mm256_set1_ps(frame.shear_z);
   const __m256 ox = _mm256_set1_ps(ray.origin[X]), oy = _mm256_set1_ps(ray.origin[Y]),
@@ -492,11 +498,12 @@ intersect_eight(const float* columns, int stride, int k, const ch04::WatertightR
   const __m256 zero = _mm256_setzero_ps();
   const __m256 inside = _mm256_or_ps(_mm256_cmp_ps(lowest, zero, _CMP_GE_OQ),
                                      _mm256_cmp_ps(highest, zero, _CMP_LE_OQ));
-  const __m256 det_nonzero = _mm256_or_ps(_mm256_cmp_ps(det, zero, _CMP_LT_OQ),
-                                          _mm256_cmp_ps(det, zero, _CMP_GT_OQ));
-  const __m256 t_times_det = _mm256_fmadd_ps(
-      u_edge, _mm256_mul_ps(sz, a.z),
-      _mm256_fmadd_ps(v_edge, _mm256_mul_ps(sz, b.z), _mm256_mul_ps(w_edge, _mm256_mul_ps(sz, c.z))));
+  const __m256 det_nonzero =
+      _mm256_or_ps(_mm256_cmp_ps(det, zero, _CMP_LT_OQ), _mm256_cmp_ps(det, zero, _CMP_GT_OQ));
+  const __m256 t_times_det =
+      _mm256_fmadd_ps(u_edge, _mm256_mul_ps(sz, a.z),
+                      _mm256_fmadd_ps(v_edge, _mm256_mul_ps(sz, b.z),
+                                      _mm256_mul_ps(w_edge, _mm256_mul_ps(sz, c.z))));
   const __m256 inverse_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
   const __m256 t = _mm256_mul_ps(t_times_det, inverse_det);
   const __m256 in_range = _mm256_and_ps(_mm256_cmp_ps(t, _mm256_set1_ps(ray.tmin), _CMP_GT_OQ),
@@ -506,19 +513,20 @@ intersect_eight(const float* columns, int stride, int k, const ch04::WatertightR
 }
 
 template <Query kQuery, class Tree, int X, int Y, int Z>
-RT_INLINE_ON_CPU inline bool test_triangles(const Tree& tree, int base, unsigned bits,
-                                            RayF& ray, TraceHit& hit, ch07::NoCounters& counters,
-                                            FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>& test) {
+RT_INLINE_ON_CPU inline bool
+test_triangles(const Tree& tree, int base, unsigned bits, RayF& ray, TraceHit& hit,
+               ch07::NoCounters& counters,
+               FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>& test) {
   if (tree.columns == nullptr) // a tree without columns: the scalar loop
     return test_triangles<kQuery, Tree, ch07::NoCounters,
                           FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>>(tree, base, bits, ray,
-                                                                           hit, counters, test);
+                                                                          hit, counters, test);
   for (unsigned left = bits; left != 0;) {
     const int first = lowest_bit(left) & ~7; // triangles first .. first + 7
     const unsigned lanes = (left >> first) & 0xffu;
     left &= ~(0xffu << first);
-    const EightTriangleHits e = intersect_eight<X, Y, Z>(
-        tree.columns, tree.column_stride, base + first, test.frame, ray);
+    const EightTriangleHits e = intersect_eight<X, Y, Z>(tree.columns, tree.column_stride,
+                                                         base + first, test.frame, ray);
     unsigned found = e.hit & lanes;
     if (found == 0) continue;
     alignas(32) float t[8];

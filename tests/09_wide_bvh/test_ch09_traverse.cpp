@@ -316,16 +316,17 @@ TEST_CASE("the CPU's eight-at-once triangle test gives chapter 04's answers bit 
           TraceHit fast_hit, scalar_hit;
           ch07::NoCounters none;
           ch07::Counters counted; // a counting test takes the scalar loop
-          const bool fast_done =
-              query == Query::closest
-                  ? test_triangles<Query::closest>(view, base, bits, fast_ray, fast_hit, none, fast)
-                  : test_triangles<Query::any>(view, base, bits, fast_ray, fast_hit, none, fast);
+          const bool fast_done = query == Query::closest
+                                     ? test_triangles<Query::closest>(
+                                           view, base, bits, fast_ray, fast_hit, none, fast)
+                                     : test_triangles<Query::any>(view, base, bits, fast_ray,
+                                                                  fast_hit, none, fast);
           const bool scalar_done =
               query == Query::closest
                   ? test_triangles<Query::closest>(view, base, bits, scalar_ray, scalar_hit,
                                                    counted, scalar)
-                  : test_triangles<Query::any>(view, base, bits, scalar_ray, scalar_hit, counted,
-                                               scalar);
+                  : test_triangles<Query::any>(view, base, bits, scalar_ray, scalar_hit,
+                                               counted, scalar);
           CAPTURE(config.name, base, bits);
           CHECK(fast_done == scalar_done);
           CHECK(fast_hit.triangle == scalar_hit.triangle);
