@@ -309,7 +309,10 @@ ReportRow shaded_frame_row(const LoadedScene& s, const RunnerOptions& o, double&
 }
 
 LoadedScene load_scene(const SceneInput& input, const RunnerOptions& o) {
-  LoadedScene s{scene_name(input.path), ch05::load_obj(input.path), {}, {}, input.camera};
+  LoadedScene s;
+  s.name = scene_name(input.path);
+  s.obj = ch05::load_obj(input.path);
+  s.chapter_camera = input.camera;
   s.bvh = build_bvh(s.mesh(), o.build);
   s.camera = input.camera != nullptr
                  ? input.camera->pinhole
@@ -390,7 +393,9 @@ SceneResult run_scene(const SceneInput& input, const std::vector<TracerMaker>& m
     for (Tracer& t : make(scene))
       if (t.runs_on(o.backend)) tracers.push_back(std::move(t));
 
-  SceneResult result{s.name, static_cast<long long>(s.mesh().triangles.size())};
+  SceneResult result;
+  result.scene = s.name;
+  result.triangles = static_cast<long long>(s.mesh().triangles.size());
   result.build_ms = s.bvh.stats.build_ms;
   result.bytes_per_triangle = s.bvh.stats.bytes_per_triangle;
   // The primary batch always: the secondary rays start from chapter 07's primary hits.
