@@ -22,13 +22,11 @@ using ch03::RayF;
 using ch07::Query;
 using ch07::TraceHit;
 
-// What every node test of one ray shares: chapter 07's box ray (origin, 1/direction and the
-// signs that pick each axis's near plane) and the ray's octant, inverted.
 #if !defined(__CUDA_ARCH__) && defined(__AVX2__)
-// On a CPU with AVX2, the same ray broadcast over the eight lanes of a vector register, once
-// per ray, for the eight-wide node reads (node_bits_avx2, below).
-// With it, the byte offsets of the near and far planes of each axis in a node's six plane
-// arrays (lo_x lo_y lo_z hi_x hi_y hi_z, 8 floats each): the ray's signs pick them once.
+// On a CPU with AVX2: the ray broadcast over the eight lanes of a vector register, and the
+// byte offsets of each axis's near and far planes in a node's six plane arrays (lo_x lo_y lo_z
+// hi_x hi_y hi_z, 8 floats each), which the ray's signs pick. Made once per ray, for the
+// eight-wide node reads (node_bits_avx2, below).
 struct EightLaneRay {
   __m256 origin_x, origin_y, origin_z, inverse_x, inverse_y, inverse_z;
   __m256i octant_inverse;
@@ -36,6 +34,9 @@ struct EightLaneRay {
 };
 #endif
 
+// What every node test of one ray shares: chapter 07's box ray (origin, 1/direction and the
+// signs that pick each axis's near plane) and the ray's octant, inverted (and, on a CPU with
+// AVX2, the same in eight lanes).
 struct WideRay {
   ch07::BoxRay box;
   unsigned octant_inverse; // 7 - octant, octant bit k set where 1/direction_k < 0
