@@ -32,6 +32,23 @@ function(rt_add_chapter)
   endif()
 endfunction()
 
+# rt_add_program(): one more program of a chapter, in <build>/bin beside the chapter's own.
+# With TEST and DEFINE, that test executable gets the program's path as the macro DEFINE and
+# is built after it (a test that runs the program).
+#
+#   rt_add_program(ch09_embree_compare SOURCES embree_compare.cpp LIBRARIES rt_ch09
+#                  TEST test_ch09 DEFINE RT_CH09_EMBREE_PROGRAM)
+function(rt_add_program name)
+  cmake_parse_arguments(ARG "" "TEST;DEFINE" "SOURCES;LIBRARIES" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBRARIES} rt::options)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
+  if(ARG_TEST AND TARGET ${ARG_TEST})
+    target_compile_definitions(${ARG_TEST} PRIVATE ${ARG_DEFINE}="$<TARGET_FILE:${name}>")
+    add_dependencies(${ARG_TEST} ${name})
+  endif()
+endfunction()
+
 # rt_add_test_executable(): a Catch2 test executable whose test cases become CTest tests.
 # Catch2 tags become CTest labels: [gpu] needs a CUDA device, [slow] takes long; every test
 # also carries the executable's LABEL (ch01, common, ...), so `ctest -L ch01` runs one chapter.
