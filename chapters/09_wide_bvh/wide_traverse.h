@@ -528,20 +528,14 @@ test_triangles(const Tree& tree, int base, unsigned bits, RayF& ray, TraceHit& h
     left &= ~(0xffu << first);
     const EightTriangleHits e = intersect_eight<X, Y, Z>(tree.columns, tree.column_stride,
                                                          base + first, test.frame, ray);
-    unsigned found = e.hit & lanes;
+    const unsigned found = e.hit & lanes;
     if (found == 0) continue;
     alignas(32) float t[8];
     _mm256_store_ps(t, e.t);
-    if (kQuery == Query::closest) { // the nearest; of equal ones, the lowest lane
-      float nearest = t[lowest_bit(found)];
-      for (unsigned rest = found; rest != 0; rest &= rest - 1)
-        nearest = t[lowest_bit(rest)] < nearest ? t[lowest_bit(rest)] : nearest;
-      unsigned equal = 0;
-      for (unsigned rest = found; rest != 0; rest &= rest - 1)
-        equal |= t[lowest_bit(rest)] == nearest ? 1u << lowest_bit(rest) : 0u;
-      found = equal;
-    }
-    const int lane = lowest_bit(found);
+    int lane = lowest_bit(found);
+    if (kQuery == Query::closest) // the nearest; of equal ones, the lowest lane
+      for (unsigned rest = found & (found - 1); rest != 0; rest &= rest - 1)
+        if (t[lowest_bit(rest)] < t[lane]) lane = lowest_bit(rest);
     alignas(32) float v_edge[8], w_edge[8], inverse_det[8];
     _mm256_store_ps(v_edge, e.v_edge);
     _mm256_store_ps(w_edge, e.w_edge);
