@@ -10,6 +10,7 @@
 #include "rt/cuda_check.h"
 #include "rt/device_buffer.h"
 #include "rt/error.h"
+#include "rt/output_file.h"
 #include "rt/program_output.h"
 
 namespace rt::ch02 {
@@ -141,6 +142,7 @@ std::vector<ShownPath> show_display_paths(Viewer& viewer, Backend backend,
         std::chrono::duration<double, std::milli>(stop - start).count());
     ++frame;
     if (input.save) {
+      const UnstagedWrites now; // the reader asked for it now, not at the end of the run
       write_output_image("ch02_screenshot_" + std::to_string(frame - 1) + ".png",
                          viewer.read_screen());
     }

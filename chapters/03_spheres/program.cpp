@@ -1,6 +1,8 @@
 // Chapter 03: the program skeleton. See program.h.
 #include "program.h"
 
+#include <iostream>
+
 #include "camera_cli.h"
 #include "rt/backend_image.h"
 #include "rt/error.h"
@@ -32,7 +34,6 @@ int run_program_main(CLI::App& app, int argc, char** argv, ProgramOptions& optio
     // --image-only measures nothing, so there would be no report to write.
     if (options.image_only && !options.common.json.empty())
       throw UsageError("--json writes the report, and --image-only makes none: give one");
-    if (!options.common.json.empty()) check_output_path(options.common.json, "the report");
     return body();
   });
 }
@@ -77,6 +78,13 @@ void write_image_only(const ProgramOptions& options, Backend backend,
 
 void write_program_image(const ProgramOptions& options, Backend backend,
                          const ProgramParts& parts) {
+  const std::string& path = options.common.output;
+  if (parts.linear_image && is_linear_image_path(path)) {
+    write_linear_image(path, parts.linear_image());
+    std::cout << "wrote " << path << " (linear values"
+              << (parts.image_note.empty() ? "" : ", " + parts.image_note) << ")\n";
+    return;
+  }
   const Extent extent = options.common.extent();
   const Image image =
       parts.image ? parts.image() : render_into_image(backend, extent, [&](Rgba8* pixels) {

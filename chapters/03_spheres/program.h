@@ -103,6 +103,10 @@ struct ProgramParts {
   // The --output image of a headless run when it is not render()'s frame of `camera` (a frame
   // measure() kept, say). Asked only when there is an --output.
   std::function<Image()> image = {};
+  // The linear values of the --output image (radiance, before any tone curve), asked instead
+  // of image() when --output names a .pfm or .exr file. Without it those files hold the
+  // picture's 8-bit values as floats.
+  std::function<LinearImage()> linear_image = {};
   std::string image_note = {}; // "wrote FILE (image_note)"; empty: "wrote FILE"
 };
 

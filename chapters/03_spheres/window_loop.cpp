@@ -11,6 +11,7 @@
 #include "orbit_controls.h"
 #include "rt/cli.h"
 #include "rt/cuda_check.h"
+#include "rt/output_file.h"
 #include "rt/program_output.h"
 #include "rt/report.h"
 
@@ -91,6 +92,7 @@ WindowResult run_window(ch02::Viewer& viewer, Backend backend, const CameraSpec&
     frame_ms.push_back(std::chrono::duration<double, std::milli>(stop - start_time).count());
     ++frame;
     if (input.save) {
+      const UnstagedWrites now; // the reader asked for it now, not at the end of the run
       write_output_image(settings.screenshot_prefix + "_" + std::to_string(frame - 1) + ".png",
                          viewer.read_screen());
     }

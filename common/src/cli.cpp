@@ -7,6 +7,8 @@
 #include "rt/cuda_check.h"
 #include "rt/error.h"
 #include "rt/image.h"
+#include "rt/output_file.h"
+#include "rt/report.h"
 
 namespace rt {
 
@@ -58,7 +60,9 @@ void add_image_size_options(CLI::App& app, int& width, int& height) {
 
 void add_common_options(CLI::App& app, CommonOptions& options) {
   add_image_size_options(app, options.width, options.height);
-  app.add_option("-o,--output", options.output, "Image file to write (.png or .pfm)")
+  app.add_option("-o,--output", options.output,
+                 "Image file to write: .png (the picture), .pfm or .exr (32-bit floats: the "
+                 "linear values where the chapter computes radiance)")
       ->capture_default_str();
   app.add_option_function<std::string>(
          "--backend",
@@ -70,8 +74,8 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                  "Timed runs per variant (default: 50 on the GPU, 5 on the CPU)")
       ->check(CLI::Range(1, 100000));
   app.add_option("--json", options.json, "Also write the report as JSON to this file");
-  add_help_paragraph(app, "Output files are written whole or not at all: a failed write "
-                          "leaves what was at the path.");
+  add_help_paragraph(app, "Output files are written whole or not at all, and only when the "
+                          "whole run succeeds: a failed run leaves what was at every path.");
 }
 
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
@@ -88,7 +92,10 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
       if (e.get_exit_code() == 0) return app.exit(e); // --help: print it, exit 0
       return fail(e.what(), 2);
     }
-    return body();
+    OutputStaging staging; // the run's files replace earlier ones only if it succeeds
+    const int code = body();
+    staging.commit();
+    return code;
   } catch (const UsageError& e) {
     return fail(e.what(), 2);
   } catch (const CudaError& e) {
@@ -106,6 +113,7 @@ int run_main(CLI::App& app, int argc, char** argv, const CommonOptions& options,
              const std::function<int()>& body) {
   return run_main(app, argc, argv, [&] {
     if (!options.output.empty()) check_image_path(options.output);
+    if (!options.json.empty()) check_report_path(options.json);
     return body();
   });
 }

@@ -6,7 +6,10 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -90,7 +93,89 @@ fs::path temporary_name(const fs::path& final_path) {
   return final_path.parent_path() / name;
 }
 
+// The renames an OutputStaging holds back: (temporary, final path), in the order written.
+struct Staged {
+  std::mutex mutex;
+  bool active = false;
+  bool paused = false; // an UnstagedWrites is alive
+  std::vector<std::pair<fs::path, fs::path>> renames;
+
+  void discard() {
+    for (const auto& [temporary, final_path] : renames) ::unlink(temporary.c_str());
+    renames.clear();
+  }
+};
+
+Staged& staged() {
+  static Staged instance;
+  return instance;
+}
+
+// Renames the temporary file into place, or, under an OutputStaging, notes it for commit().
+void finish(const fs::path& temporary, const fs::path& final_path, const std::string& path,
+            const std::string& what) {
+  Staged& s = staged();
+  {
+    const std::lock_guard lock(s.mutex);
+    if (s.active && !s.paused) {
+      for (auto& [earlier, target] : s.renames)
+        if (target == final_path) { // written again: the later bytes win
+          ::unlink(earlier.c_str());
+          earlier = temporary;
+          return;
+        }
+      s.renames.emplace_back(temporary, final_path);
+      return;
+    }
+  }
+  if (std::rename(temporary.c_str(), final_path.c_str()) != 0) {
+    const int error = errno;
+    ::unlink(temporary.c_str());
+    fail(what, path, reason_of(error));
+  }
+}
+
 } // namespace
+
+OutputStaging::OutputStaging() {
+  Staged& s = staged();
+  const std::lock_guard lock(s.mutex);
+  if (s.active) throw Error("OutputStaging: one is alive already");
+  s.active = true;
+}
+
+OutputStaging::~OutputStaging() {
+  Staged& s = staged();
+  const std::lock_guard lock(s.mutex);
+  s.discard();
+  s.active = false;
+}
+
+void OutputStaging::commit() {
+  Staged& s = staged();
+  const std::lock_guard lock(s.mutex);
+  std::vector<std::pair<fs::path, fs::path>> renames = std::move(s.renames);
+  s.renames.clear();
+  for (std::size_t i = 0; i < renames.size(); ++i)
+    if (std::rename(renames[i].first.c_str(), renames[i].second.c_str()) != 0) {
+      const int error = errno;
+      for (std::size_t k = i; k < renames.size(); ++k) ::unlink(renames[k].first.c_str());
+      fail("the file", renames[i].second.string(), reason_of(error));
+    }
+}
+
+UnstagedWrites::UnstagedWrites() {
+  Staged& s = staged();
+  const std::lock_guard lock(s.mutex);
+  was_paused_ = s.paused;
+  s.paused = true;
+}
+
+UnstagedWrites::~UnstagedWrites() {
+  Staged& s = staged();
+  const std::lock_guard lock(s.mutex);
+  s.paused = was_paused_;
+}
 
 void check_output_path(const std::string& path, const std::string& what) {
   examine(path, what);
@@ -133,11 +218,7 @@ void write_output_file(const std::string& path, const std::string& what,
     remove_temporary();
     throw;
   }
-  if (std::rename(temporary.c_str(), target.final_path.c_str()) != 0) {
-    const int error = errno;
-    remove_temporary();
-    fail(what, path, reason_of(error));
-  }
+  finish(temporary, target.final_path, path, what);
 }
 
 } // namespace rt

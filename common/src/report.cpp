@@ -2,6 +2,7 @@
 #include "rt/report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <iomanip>
 #include <ostream>
@@ -9,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rt/error.h"
 #include "rt/output_file.h"
 
 namespace rt {
@@ -109,6 +111,16 @@ std::string Report::to_json() const {
     json["rows"].push_back(std::move(r));
   }
   return json.dump(2) + "\n";
+}
+
+void check_report_path(const std::string& path) {
+  std::string lower = path;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* image : {".png", ".pfm", ".exr"})
+    if (lower.ends_with(image))
+      throw UsageError("--json '" + path + "': the report is JSON, not a " +
+                       std::string(image + 1) + " image");
+  check_output_path(path, "JSON report");
 }
 
 void Report::write_json(const std::string& path) const {

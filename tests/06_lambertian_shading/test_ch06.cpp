@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -567,5 +568,40 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch06]
   CAPTURE(ok.output);
   CHECK(ok.exit_code == 0);
   CHECK(std::filesystem::file_size(image) > 0);
+  std::filesystem::remove_all(folder);
+}
+
+TEST_CASE("program: a run that fails on one output replaces none of the others", "[ch06]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch06_outputs");
+  const std::filesystem::path image = folder / "keep.png", report = folder / "keep.json";
+  std::ofstream(image) << "the image of an earlier run";
+  std::ofstream(report) << "the report of an earlier run";
+  const auto contents = [](const std::filesystem::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  // The image is written first, then the report fails (/dev/full): the image stays as it was.
+  const ProgramRun full = run_program("--width 16 --height 12 --frames 1 --output " +
+                                      image.string() + " --json /dev/full");
+  CAPTURE(full.output);
+  CHECK(full.exit_code == 1);
+  CHECK_THAT(full.output, rt::testing::contains("/dev/full"));
+  CHECK(contents(image) == "the image of an earlier run");
+  // The same run with both paths good replaces both.
+  const ProgramRun ok = run_program("--width 16 --height 12 --frames 1 --output " +
+                                    image.string() + " --json " + report.string());
+  CAPTURE(ok.output);
+  CHECK(ok.exit_code == 0);
+  CHECK(contents(image).starts_with("\x89PNG"));
+  CHECK(contents(report).starts_with("{"));
+  // An .exr of the picture, and a report under an image's name refused before the work.
+  const ProgramRun exr = run_program("--width 16 --height 12 --image-only --output " +
+                                     (folder / "picture.exr").string());
+  CAPTURE(exr.output);
+  CHECK(exr.exit_code == 0);
+  CHECK(std::filesystem::file_size(folder / "picture.exr") > 0);
+  const ProgramRun misnamed = run_program("--json " + (folder / "report.png").string());
+  CHECK(misnamed.exit_code == 2);
+  CHECK(rt::testing::line_count(misnamed.output) == 1);
   std::filesystem::remove_all(folder);
 }

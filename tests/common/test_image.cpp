@@ -1,5 +1,6 @@
 // Image output: PNG and PFM round trips, and unwritable paths as clear errors.
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 
 #include "rt_catch.h"
 #include <stb_image.h>
+#include <tinyexr.h>
 
 #include "rt/error.h"
 #include "rt/image.h"
@@ -69,6 +71,40 @@ TEST_CASE("PFM holds the header and float rows bottom to top", "[common]") {
   fs::remove(path);
 }
 
+TEST_CASE("EXR holds linear floats exactly, HDR values and all", "[common]") {
+  // Values a PNG could not hold: above 1, tiny, negative zero's neighbour, a large radiance.
+  LinearImage linear{3, 2, {}};
+  for (int i = 0; i < 6; ++i)
+    linear.rgb.push_back({0.25f * float(i), 1e-6f * float(i + 1), 4.0e29f / float(i + 1)});
+  const fs::path exr = temp_path("linear.exr"), pfm = temp_path("linear.pfm");
+  write_linear_image(exr.string(), linear);
+  write_linear_image(pfm.string(), linear);
+  float* rgba = nullptr;
+  int w = 0, h = 0;
+  const char* error = nullptr;
+  REQUIRE(LoadEXR(&rgba, &w, &h, exr.string().c_str(), &error) == TINYEXR_SUCCESS);
+  CHECK(w == 3);
+  CHECK(h == 2);
+  for (int i = 0; i < 6; ++i) { // LoadEXR gives RGBA rows top to bottom
+    CHECK(rgba[4 * i + 0] == linear.rgb[i].x);
+    CHECK(rgba[4 * i + 1] == linear.rgb[i].y);
+    CHECK(rgba[4 * i + 2] == linear.rgb[i].z);
+  }
+  std::free(rgba);
+  std::ifstream in(pfm, std::ios::binary);
+  std::string magic;
+  float scale = 0;
+  in >> magic >> w >> h >> scale;
+  in.get();
+  std::vector<float> data(18);
+  in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * sizeof(float)));
+  REQUIRE(in);
+  CHECK(data[0] == linear.rgb[3].x); // the bottom row first
+  CHECK(data[2] == linear.rgb[3].z);
+  fs::remove(exr);
+  fs::remove(pfm);
+}
+
 TEST_CASE("unwritable or unknown output paths are clear errors", "[common]") {
   const Image image = test_image();
   CHECK_THROWS_AS(write_image("/nonexistent-dir/x.png", image), OutputError);
@@ -77,6 +113,9 @@ TEST_CASE("unwritable or unknown output paths are clear errors", "[common]") {
   CHECK_THROWS_AS(write_image("/nonexistent-dir/x.pfm", image), OutputError);
   CHECK_THROWS_AS(write_image("picture.jpg", image), UsageError);
   CHECK_NOTHROW(check_image_path("A.PNG"));
+  CHECK_NOTHROW(check_image_path("b.Exr"));
+  CHECK_THROWS_AS(write_linear_image("linear.png", LinearImage{1, 1, {Vec3f{1, 2, 3}}}),
+                  UsageError);
   CHECK_THROWS_AS(write_png("/tmp/empty.png", Image{}), OutputError);
 }
 

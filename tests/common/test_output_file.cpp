@@ -258,3 +258,51 @@ TEST_CASE("the CPU launch helper still runs every pixel exactly once", "[common]
   for_each_pixel_cpu(extent, [&](int x, int y) { ++count[y * extent.width + x]; });
   for (const auto& c : count) CHECK(c.load() == 1);
 }
+
+TEST_CASE("under an OutputStaging nothing is replaced until commit, and nothing at all without",
+          "[common]") {
+  const fs::path folder = rt::testing::temp_folder("rt_output_staged");
+  const fs::path image = folder / "keep.png", report = folder / "keep.json";
+  write_text(image, "old image");
+  write_text(report, "old report");
+  {
+    OutputStaging staging;
+    write_output_file(image.string(), "image", writes("new image"));
+    CHECK(contents(image) == "old image"); // written whole beside it, not yet in place
+    CHECK_THROWS_AS(write_output_file("/dev/full", "report", writes(std::string(1 << 16, 'x'))),
+                    OutputError);
+  } // the run failed: no commit
+  CHECK(contents(image) == "old image");
+  CHECK(other_files(folder, image) == 1); // the report, and no temporary file left
+
+  {
+    OutputStaging staging;
+    write_output_file(image.string(), "image", writes("first"));
+    write_output_file(report.string(), "report", writes("new report"));
+    write_output_file(image.string(), "image", writes("second"));
+    {
+      const UnstagedWrites now;
+      write_output_file((folder / "shot.png").string(), "screenshot", writes("now"));
+    }
+    CHECK(contents(folder / "shot.png") == "now");
+    CHECK(contents(image) == "old image");
+    staging.commit();
+  }
+  CHECK(contents(image) == "second"); // written twice: the later bytes
+  CHECK(contents(report) == "new report");
+  CHECK(other_files(folder, image) == 2); // report and screenshot; no temporary file
+  CHECK_THROWS_AS(
+      [] {
+        OutputStaging one;
+        OutputStaging two;
+      }(),
+      Error);
+}
+
+TEST_CASE("a report path is refused before the work when it names an image", "[common]") {
+  CHECK_THROWS_AS(check_report_path("out.png"), UsageError);
+  CHECK_THROWS_AS(check_report_path("OUT.EXR"), UsageError);
+  CHECK_THROWS_AS(check_report_path("/nonexistent-dir/report.json"), OutputError);
+  CHECK_NOTHROW(check_report_path("report.json"));
+  CHECK_NOTHROW(check_report_path("/dev/stdout"));
+}

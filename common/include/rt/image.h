@@ -1,5 +1,6 @@
-// Images (chapter 01): 8-bit RGBA pixels as the kernels write them, and the two file formats
-// the course writes: PNG (through stb_image_write) and PFM (32-bit float, for exact values).
+// Images (chapter 01): 8-bit RGBA pixels as the kernels write them, linear float pixels for
+// what a renderer computes, and the file formats the course writes: PNG (through
+// stb_image_write) for pictures, PFM and OpenEXR (through tinyexr) for 32-bit floats.
 #pragma once
 
 #include <cstdint>
@@ -34,15 +35,31 @@ struct Image {
   }
 };
 
+// Linear RGB floats, as a renderer computes them (radiance: no tone curve, no clipping).
+struct LinearImage {
+  int width = 0;
+  int height = 0;
+  std::vector<Vec3f> rgb; // row-major, row 0 at the top
+};
+
 // Writes an 8-bit PNG; throws OutputError naming the path if it cannot. Like every output,
 // through write_output_file (rt/output_file.h): a failure leaves the path as it was.
 void write_png(const std::string& path, const Image& image);
 // Writes a PFM (little-endian, bottom row first as the format defines); throws OutputError.
 void write_pfm(const std::string& path, int width, int height, std::span<const Vec3f> rgb);
-// PNG or PFM by the path's extension (.png / .pfm); other extensions are a UsageError.
+// Writes an OpenEXR file of 32-bit float R, G and B channels (ZIP compressed, through
+// tinyexr); throws OutputError.
+void write_exr(const std::string& path, int width, int height, std::span<const Vec3f> rgb);
+// True when the path names a float format (.pfm or .exr, in any case).
+bool is_linear_image_path(const std::string& path);
+// The picture by the path's extension: PNG, or its 8-bit values as floats (value / 255) in a
+// PFM or EXR file. Other extensions are a UsageError.
 void write_image(const std::string& path, const Image& image);
-// Throws UsageError unless the path ends in .png or .pfm, and OutputError when it can never
-// be written (rt/output_file.h: a directory, a folder that does not exist...), so that a
+// Linear values in a PFM or EXR file, by the path's extension; a .png is a UsageError (a
+// picture needs a tone curve first: the chapter that computes the values chooses it).
+void write_linear_image(const std::string& path, const LinearImage& image);
+// Throws UsageError unless the path ends in .png, .pfm or .exr, and OutputError when it can
+// never be written (rt/output_file.h: a directory, a folder that does not exist...), so that a
 // program can refuse it before its work instead of after.
 void check_image_path(const std::string& path);
 

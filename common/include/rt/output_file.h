@@ -1,7 +1,10 @@
 // Output files (chapter 01): a failed write never destroys what was at the path. The data goes
 // to a new temporary file beside the target, which is renamed over it only once every byte is
 // written and the file is closed without error. Every file the course writes (images, JSON
-// reports, hit and ray files) goes through write_output_file.
+// reports, hit and ray files) goes through write_output_file. And a failed run replaces none of
+// its files: while a program runs (rt::run_main holds an OutputStaging), the renames wait until
+// the run has succeeded, so a run that writes an image and then fails on its report leaves the
+// image that was there before.
 #pragma once
 
 #include <cstdio>
@@ -28,5 +31,35 @@ void write_output_file(const std::string& path, const std::string& what,
 // rather than after it: throws OutputError when `path` is empty, a directory, write-protected,
 // not a file at all, or in a folder that does not exist.
 void check_output_path(const std::string& path, const std::string& what);
+
+// Holds back the renames of write_output_file while it lives: each file is written whole to
+// its temporary file as usual, and commit() renames every one into place, in the order they
+// were written (a path written twice keeps the later one). Destroyed without commit(), it
+// removes them all, so no earlier file is replaced. One at a time, for the whole process
+// (a second one is a logic error); files written to a stream (/dev/stdout, a pipe) go out at
+// once. Not for files the reader asks for while the program runs (the window's screenshots):
+// write those inside an UnstagedWrites.
+class OutputStaging {
+public:
+  OutputStaging();
+  ~OutputStaging();
+  OutputStaging(const OutputStaging&) = delete;
+  OutputStaging& operator=(const OutputStaging&) = delete;
+  // Renames every staged file into place; throws OutputError naming the first that fails
+  // (those after it are removed, those before it stay written).
+  void commit();
+};
+
+// While it lives, write_output_file renames at once even under an OutputStaging.
+class UnstagedWrites {
+public:
+  UnstagedWrites();
+  ~UnstagedWrites();
+  UnstagedWrites(const UnstagedWrites&) = delete;
+  UnstagedWrites& operator=(const UnstagedWrites&) = delete;
+
+private:
+  bool was_paused_;
+};
 
 } // namespace rt

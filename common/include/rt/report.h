@@ -43,6 +43,11 @@ private:
   std::vector<ReportRow> rows_;
 };
 
+// Refuses, before the work, a --json path the report could never be written to: UsageError for
+// an image's extension (.png, .pfm, .exr: JSON under an image's name), OutputError as
+// check_output_path (rt/output_file.h) says.
+void check_report_path(const std::string& path);
+
 // Formats a count with thin grouping ("1 812") as the report prints it.
 std::string group_digits(long long value);
 
