@@ -11,6 +11,19 @@
 
 namespace rt::ch03 {
 
+namespace {
+
+// The frames the window draws and a headless run writes: render, or render_with_radiance
+// without the linear values.
+FrameRenderer frame_renderer(const ProgramParts& parts) {
+  if (parts.render) return parts.render;
+  return [&parts](Backend backend, const CameraSpec& camera, Extent extent, Rgba8* pixels) {
+    parts.render_with_radiance(backend, camera, extent, pixels, nullptr);
+  };
+}
+
+} // namespace
+
 void add_program_options(CLI::App& app, ProgramOptions& options) {
   add_common_options(app, options.common);
   add_camera_options(app, options.camera);
@@ -62,7 +75,8 @@ bool show_in_window(const ProgramOptions& options, Backend backend, const Progra
   report.add_context("mode", k_window_mode);
   for (const auto& [key, value] : parts.window_context) report.add_context(key, value);
   const WindowSettings settings{title, options.common.frames, parts.chapter + "_screenshot"};
-  const WindowResult shown = run_window(*viewer, backend, parts.camera, settings, parts.render);
+  const WindowResult shown =
+      run_window(*viewer, backend, parts.camera, settings, frame_renderer(parts));
   if (shown.frames == 0) return true;
   report.add_row(parts.window_row(shown));
   if (options.common.frames > 0 && !options.common.output.empty())
@@ -79,16 +93,22 @@ void write_image_only(const ProgramOptions& options, Backend backend,
 void write_program_image(const ProgramOptions& options, Backend backend,
                          const ProgramParts& parts) {
   const std::string& path = options.common.output;
-  if (parts.linear_image && is_linear_image_path(path)) {
-    write_linear_image(path, parts.linear_image());
+  const Extent extent = options.common.extent();
+  if ((parts.linear_image || parts.render_with_radiance) && is_linear_image_path(path)) {
+    write_linear_image(
+        path,
+        parts.linear_image
+            ? parts.linear_image()
+            : render_into_linear_image(backend, extent, [&](Rgba8* pixels, Vec3f* radiance) {
+                parts.render_with_radiance(backend, parts.camera, extent, pixels, radiance);
+              }));
     std::cout << "wrote " << path << " (linear values"
               << (parts.image_note.empty() ? "" : ", " + parts.image_note) << ")\n";
     return;
   }
-  const Extent extent = options.common.extent();
   const Image image =
       parts.image ? parts.image() : render_into_image(backend, extent, [&](Rgba8* pixels) {
-        parts.render(backend, parts.camera, extent, pixels);
+        frame_renderer(parts)(backend, parts.camera, extent, pixels);
       });
   write_output_image(options.common.output, image, parts.image_note);
 }

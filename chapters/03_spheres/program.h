@@ -94,6 +94,11 @@ struct ProgramParts {
   // One frame on the resolved backend (into device memory on the GPU): the window's frames,
   // and the --output image of a headless run.
   FrameRenderer render = {};
+  // Instead of render, for a chapter that computes radiance: the same frame, and each pixel's
+  // linear colour into `radiance` (on the backend, like pixels) when it is not null. The
+  // skeleton draws the window's frames with a null `radiance`, and writes the values to an
+  // --output .pfm or .exr file.
+  LinearFrameRenderer render_with_radiance = {};
   // The window's row of the report, from what it showed last (asked only if it showed any).
   std::function<ReportRow(const WindowResult& shown)> window_row = {};
   // Context lines a window's report adds after its mode line.
@@ -104,8 +109,9 @@ struct ProgramParts {
   // measure() kept, say). Asked only when there is an --output.
   std::function<Image()> image = {};
   // The linear values of the --output image (radiance, before any tone curve), asked instead
-  // of image() when --output names a .pfm or .exr file. Without it those files hold the
-  // picture's 8-bit values as floats.
+  // of image() when --output names a .pfm or .exr file, when they are not
+  // render_with_radiance()'s frame of `camera`. Without either, those files hold the picture's
+  // 8-bit values as floats.
   std::function<LinearImage()> linear_image = {};
   std::string image_note = {}; // "wrote FILE (image_note)"; empty: "wrote FILE"
 };

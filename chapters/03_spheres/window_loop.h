@@ -21,6 +21,10 @@ namespace rt::ch03 {
 // Draws one frame of `camera` into `pixels` (device memory on the GPU backend).
 using FrameRenderer = std::function<void(Backend backend, const CameraSpec& camera,
                                          Extent extent, Rgba8* pixels)>;
+// The same, with each pixel's linear colour (radiance, before the picture's tone curve) into
+// `radiance` when it is not null.
+using LinearFrameRenderer = std::function<void(Backend backend, const CameraSpec& camera,
+                                               Extent extent, Rgba8* pixels, Vec3f* radiance)>;
 
 struct WindowSettings {
   std::string title;       // the window title's prefix

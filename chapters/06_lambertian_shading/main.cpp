@@ -86,12 +86,14 @@ int run(ChapterOptions& options) {
       .chapter = "ch06",
       .window_title = "Lambertian shading",
       .camera = camera,
-      .render =
-          [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
+      .render_with_radiance =
+          [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels,
+              Vec3f* radiance) {
             if (b == Backend::gpu && !d_scene) d_scene.emplace(scene, features);
             const SceneView view = d_scene ? d_scene->view() : host_view(scene, features);
             render_shaded(b, KernelKind::specialised, features, view,
-                          ch03::make_camera<float>(spec, extent), extent, pixels);
+                          ch03::make_camera<float>(spec, extent), extent, pixels, nullptr,
+                          radiance);
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {

@@ -28,6 +28,7 @@ template <class S> struct FrameLaunchOf {
   Extent extent;
   Rgba8* pixels;
   ShadedPixelRecord* records; // may be null
+  Vec3f* radiance = nullptr;  // may be null: each pixel's colour before the picture's curve
 };
 
 template <class F, class S>
@@ -36,6 +37,7 @@ RT_HD void shade_pixel(const FrameLaunchOf<S>& frame, F features, int x, int y) 
       shade_ray(frame.scene, frame.camera.ray_through_pixel(x, y), features);
   const int index = y * frame.extent.width + x;
   frame.pixels[index] = ch03::to_rgba8(sample.colour);
+  if (frame.radiance != nullptr) frame.radiance[index] = sample.colour;
   if (frame.records != nullptr)
     frame.records[index] = {sample.triangle, static_cast<std::uint8_t>(sample.shadow_rays),
                             static_cast<std::uint8_t>(sample.shadowed_facing),

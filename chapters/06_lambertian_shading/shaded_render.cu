@@ -92,8 +92,8 @@ std::size_t DeviceShadedScene::bytes_uploaded() const {
 // [listing:render_shaded]
 void render_shaded(Backend backend, KernelKind kind, unsigned features, const SceneView& scene,
                    const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                   ShadedPixelRecord* records) {
-  const FrameLaunch frame{scene, camera, extent, pixels, records};
+                   ShadedPixelRecord* records, Vec3f* radiance) {
+  const FrameLaunch frame{scene, camera, extent, pixels, records, radiance};
   if (kind == KernelKind::all_features)
     return render_with(backend, frame, AllFeatures{features});
   with_specialised(features,

@@ -45,11 +45,12 @@ inline unsigned uploaded_features(KernelKind kind, unsigned features) {
 }
 
 // Renders a frame of `scene` (device pointers on the GPU backend, host pointers on the CPU)
-// into pixels and, if not null, records, both in the backend's memory. `features` is what the
-// frame uses; `scene` must hold the arrays those features read.
+// into pixels and, if not null, records and each pixel's linear colour (radiance, for .pfm
+// and .exr files), all in the backend's memory. `features` is what the frame uses; `scene`
+// must hold the arrays those features read.
 void render_shaded(Backend backend, KernelKind kind, unsigned features, const SceneView& scene,
                    const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                   ShadedPixelRecord* records = nullptr);
+                   ShadedPixelRecord* records = nullptr, Vec3f* radiance = nullptr);
 
 // Registers per thread of the GPU kernel (cudaFuncGetAttributes); needs a usable GPU.
 int kernel_registers(KernelKind kind, unsigned features);

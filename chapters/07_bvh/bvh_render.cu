@@ -7,8 +7,8 @@ namespace rt::ch07 {
 
 void render_bvh_shaded(Backend backend, unsigned features, const BvhSceneView& scene,
                        const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                       ch06::ShadedPixelRecord* records) {
-  render_shaded_through(backend, features, scene, camera, extent, pixels, records);
+                       ch06::ShadedPixelRecord* records, Vec3f* radiance) {
+  render_shaded_through(backend, features, scene, camera, extent, pixels, records, radiance);
 }
 
 } // namespace rt::ch07

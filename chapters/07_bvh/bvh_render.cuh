@@ -22,12 +22,13 @@ __global__ void bvh_shade_kernel(ch06::FrameLaunchOf<S> frame, F features) {
 }
 
 // A shaded frame of `scene` (device pointers on the GPU backend, host pointers on the CPU),
-// by a kernel specialised on the frame's features.
+// by a kernel specialised on the frame's features; records and radiance as chapter 06's
+// render_shaded writes them, where not null.
 template <class S>
 void render_shaded_through(Backend backend, unsigned features, const S& scene,
                            const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                           ch06::ShadedPixelRecord* records) {
-  const ch06::FrameLaunchOf<S> frame{scene, camera, extent, pixels, records};
+                           ch06::ShadedPixelRecord* records, Vec3f* radiance = nullptr) {
+  const ch06::FrameLaunchOf<S> frame{scene, camera, extent, pixels, records, radiance};
   ch06::with_specialised(features, [&](auto specialised) {
     if (backend == Backend::cpu) {
       for_each_pixel_cpu(extent,

@@ -11,6 +11,6 @@ namespace rt::ch07 {
 // `scene` holds device pointers on the GPU backend and host pointers on the CPU.
 void render_bvh_shaded(Backend backend, unsigned features, const BvhSceneView& scene,
                        const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                       ch06::ShadedPixelRecord* records = nullptr);
+                       ch06::ShadedPixelRecord* records = nullptr, Vec3f* radiance = nullptr);
 
 } // namespace rt::ch07

@@ -19,6 +19,6 @@ inline KeptTree host_kept_view(const PackedBvh& p) {
 // `scene` holds device pointers on the GPU backend and host pointers on the CPU.
 void render_kept_shaded(Backend backend, unsigned features, const KeptSceneView& scene,
                         const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                        ch06::ShadedPixelRecord* records = nullptr);
+                        ch06::ShadedPixelRecord* records = nullptr, Vec3f* radiance = nullptr);
 
 } // namespace rt::ch08

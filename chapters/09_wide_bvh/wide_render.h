@@ -11,9 +11,9 @@ namespace rt::ch09 {
 // `scene` holds device pointers on the GPU backend and host pointers on the CPU.
 void render_wide_shaded(Backend backend, unsigned features, const CompressedSceneView& scene,
                         const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                        ch06::ShadedPixelRecord* records = nullptr);
+                        ch06::ShadedPixelRecord* records = nullptr, Vec3f* radiance = nullptr);
 void render_wide_shaded(Backend backend, unsigned features, const Wide4PackedSceneView& scene,
                         const ch03::Camera<float>& camera, Extent extent, Rgba8* pixels,
-                        ch06::ShadedPixelRecord* records = nullptr);
+                        ch06::ShadedPixelRecord* records = nullptr, Vec3f* radiance = nullptr);
 
 } // namespace rt::ch09

@@ -62,7 +62,8 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
   add_image_size_options(app, options.width, options.height);
   app.add_option("-o,--output", options.output,
                  "Image file to write: .png (the picture), .pfm or .exr (32-bit floats: the "
-                 "linear values where the chapter computes radiance)")
+                 "linear radiance where the chapter computes it, from chapter 06 on; else the "
+                 "picture's values)")
       ->capture_default_str();
   app.add_option_function<std::string>(
          "--backend",
