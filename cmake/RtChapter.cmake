@@ -59,9 +59,11 @@ function(rt_add_test_executable name)
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
   # --warn NoTests: a CTest entry whose name matches no test fails instead of passing empty
   # (a test name with an unmatched [ once made CMake fold dozens of names into one entry).
+  # A test that ends in RT_SKIP (rt_skip.h) says "SKIPPED: ..." and counts as skipped.
   catch_discover_tests(${name} TEST_PREFIX "${ARG_LABEL}:" TEST_LIST ${name}_TESTS
                        EXTRA_ARGS --warn NoTests
-                       PROPERTIES TIMEOUT 600 LABELS ${ARG_LABEL})
+                       PROPERTIES TIMEOUT 600 LABELS ${ARG_LABEL}
+                                  SKIP_REGULAR_EXPRESSION "SKIPPED:")
   # Catch2's discovery cannot turn tags into labels, so CTest reads a second file after
   # Catch's own: it asks the executable which tests carry [gpu] and [slow] and labels them.
   set(label_file ${CMAKE_CURRENT_BINARY_DIR}/${name}_labels.cmake)
