@@ -13,23 +13,11 @@
 
 #include "bvh.h"
 #include "camera.h"
+#include "cosine_sampling.h"
 #include "ray.h"
 #include "rt/hd.h"
 #include "rt/vec.h"
 #include "triangles.h"
-
-// Every float operation below must be rounded on its own: nvcc fuses a*b + c into one FMA by
-// default, and a fused Duff basis or hit point differs in its last bits, enough to flip a tiny
-// normal component on an axis-aligned wall and send a whole ray elsewhere. The host compiler
-// does not fuse (ISO C++ mode, and x86-64 has no FMA without -march). On the device these
-// functions are compiled only in protocol_gpu.cu, which is built with -fmad=false and defines
-// RT_PROTOCOL_NO_CONTRACTION. Anywhere else they are host functions, so calling one from a
-// kernel built with nvcc's default flags is a compile error instead of a silent difference.
-#if defined(RT_PROTOCOL_NO_CONTRACTION)
-#define RT_PROTOCOL_HD __host__ __device__
-#else
-#define RT_PROTOCOL_HD
-#endif
 
 namespace rt::ch07 {
 
@@ -132,77 +120,16 @@ RT_HD inline Vec2f pcg2d_uniforms(std::uint32_t i, std::uint32_t j) {
 }
 // [/listing:pcg2d]
 
-struct SinCos {
-  float sin, cos;
-};
-
-// sin and cos of 2 pi turns, for turns in [0, 1). The GPU's sinf and cosf (2 ulps) and the C
-// library's round differently, so the same pixel would get a different direction on each
-// backend; plain adds and multiplies round alike everywhere. turns * 4 splits exactly into a
-// quadrant k and a remainder f in [-1/2, 1/2]; the angle f pi/2 then lies in [-pi/4, pi/4],
-// where the short minimax polynomials of Cephes' sinf and cosf (Moshier) are good to ~1 ulp.
-RT_PROTOCOL_HD inline SinCos sin_cos_turns(float turns) {
-  const float quarter_turns = turns * 4.0f;
-  const float k = rintf(quarter_turns);
-  constexpr float k_half_pi = 1.57079637f;         // pi/2 rounded to float
-  const float x = (quarter_turns - k) * k_half_pi; // the angle left over, in radians
-  const float z = x * x;
-  constexpr float k_s1 = -1.6666654611e-1f, k_s2 = 8.3321608736e-3f, k_s3 = -1.9515295891e-4f;
-  constexpr float k_c1 = 4.166664568e-2f, k_c2 = -1.388731625e-3f, k_c3 = 2.443315712e-5f;
-  // The small terms first, as Cephes sums them: x (or 1) is added last.
-  const float s = z * x * (k_s1 + z * (k_s2 + z * k_s3)) + x;
-  const float c = z * z * (k_c1 + z * (k_c2 + z * k_c3)) - 0.5f * z + 1.0f;
-  switch (static_cast<int>(k) & 3) { // each quarter turn rotates (cos, sin) by 90 degrees
-  case 0:
-    return {s, c};
-  case 1:
-    return {c, -s};
-  case 2:
-    return {-s, -c};
-  default:
-    return {-c, s};
-  }
-}
-
-// Two unit vectors that make a right-handed orthonormal frame with the unit normal n
-// (cross(tangent, bitangent) = n).
-struct TangentFrame {
-  Vec3f tangent, bitangent;
-};
-
-// [listing:cosine_direction]
-// Duff et al. 2017, "Building an Orthonormal Basis, Revisited": Frisvad's branch-free frame,
-// with copysign choosing the formula that stays accurate on each side of n.z = 0 (the original
-// divided by 1 + n.z and lost every digit near n = (0, 0, -1)).
-RT_PROTOCOL_HD inline TangentFrame duff_frame(Vec3f n) {
-  const float sign = copysignf(1.0f, n.z);
-  const float a = -1.0f / (sign + n.z);
-  const float b = n.x * n.y * a;
-  return {{1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x},
-          {b, sign + n.y * n.y * a, -n.y}};
-}
-
-// A direction about the unit normal n with density cos(theta) / pi (Malley's method: a
-// uniform point on the unit disk, lifted to the hemisphere). u1 and u2 are uniform in [0, 1).
-RT_PROTOCOL_HD inline Vec3f cosine_direction(Vec3f n, float u1, float u2) {
-  const float s = sqrtf(u1); // the disk radius; u1 < 1, so 1 - u1 is exact and positive
-  const SinCos phi = sin_cos_turns(u2);
-  const Vec3f local{s * phi.cos, s * phi.sin, sqrtf(1.0f - u1)};
-  const TangentFrame frame = duff_frame(n);
-  return normalize(local.x * frame.tangent + local.y * frame.bitangent + local.z * n);
-}
-// [/listing:cosine_direction]
-
 // The cross product as plainly written. rt::cross is more accurate (difference_of_products,
 // explicit FMAs), but the protocol's normal is the textbook one, rounded as other ray tracers
 // round it, so their hit buffers compare with ours.
-RT_PROTOCOL_HD inline Vec3f plain_cross(Vec3f a, Vec3f b) {
+RT_UNFUSED_HD inline Vec3f plain_cross(Vec3f a, Vec3f b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
 // The triangle's geometric normal, unit length, on the side the ray came from (dot with the
 // ray's direction <= 0): the meshes are two-sided, and a secondary ray leaves on that side.
-RT_PROTOCOL_HD inline Vec3f protocol_normal(const TriangleF& tri, Vec3f ray_direction) {
+RT_UNFUSED_HD inline Vec3f protocol_normal(const TriangleF& tri, Vec3f ray_direction) {
   const Vec3f edge1 = tri.v1 - tri.v0, edge2 = tri.v2 - tri.v0;
   Vec3f n = plain_cross(edge1, edge2);
   float n_dot_n = dot(n, n);
@@ -227,9 +154,9 @@ RT_PROTOCOL_HD inline Vec3f protocol_normal(const TriangleF& tri, Vec3f ray_dire
 // from the hit point, moved off the surface by 1e-4 r along the faced normal, a cosine-
 // distributed direction from the pixel's hash. ao rays look for any hit within 0.1 r (the
 // occlusion radius), diffuse rays for the closest hit at any distance.
-RT_PROTOCOL_HD inline RayF secondary_ray(RayType type, const RayF& primary, const MeshHit& hit,
-                                         const TriangleF& tri, int i, int j,
-                                         float scene_radius) {
+RT_UNFUSED_HD inline RayF secondary_ray(RayType type, const RayF& primary, const MeshHit& hit,
+                                        const TriangleF& tri, int i, int j,
+                                        float scene_radius) {
   const Vec3f p = primary.origin + hit.t * primary.direction;
   const Vec3f n = protocol_normal(tri, primary.direction);
   const Vec2f u = pcg2d_uniforms(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));

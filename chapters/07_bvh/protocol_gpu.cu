@@ -1,8 +1,8 @@
-// Chapter 07: the benchmark protocol's rays on the GPU. This file, and only this one, is
-// compiled with -fmad=false (CMakeLists.txt), and it alone gives protocol.h's functions a
-// device side (RT_PROTOCOL_NO_CONTRACTION): every multiply and add is rounded on its own, as on
-// the CPU, so both backends make the same rays bit for bit.
-#define RT_PROTOCOL_NO_CONTRACTION 1
+// Chapter 07: the benchmark protocol's rays on the GPU. This file, and only this one of the
+// chapter, is compiled with -fmad=false (CMakeLists.txt), and it alone gives protocol.h's
+// functions a device side (RT_NO_CONTRACTION, cosine_sampling.h): every multiply and add is
+// rounded on its own, as on the CPU, so both backends make the same rays bit for bit.
+#define RT_NO_CONTRACTION 1
 #include "protocol.h"
 
 #include <algorithm>
