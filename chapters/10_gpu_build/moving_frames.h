@@ -20,7 +20,6 @@ namespace rt::ch10 {
 // One frame's parts: GPU, CUDA events between them; CPU, wall time.
 struct FrameParts {
   double animate_ms = 0, tree_ms = 0, collapse_ms = 0, render_ms = 0;
-  double total_ms() const { return animate_ms + tree_ms + collapse_ms + render_ms; }
 };
 
 class MovingFrames {

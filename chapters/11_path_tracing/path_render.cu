@@ -103,17 +103,23 @@ template <class F> struct MegakernelPixel {
 // regeneration of Novak et al. 2010). In the megakernel a warp runs until the longest of its
 // 32 paths ends, the lanes of the shorter ones idle; here a lane whose path ended takes the
 // next one. The lanes that need a path take them together, one atomic per warp; paths are
-// numbered in 8x4-pixel tiles so that a warp's camera rays start coherent. One sample per
-// launch: each pixel's sum gets one path, in sample order as in the megakernel.
+// numbered in tiles of pixels, a warp's worth each, so that a warp's camera rays start
+// coherent. One sample per launch: each pixel's sum gets one path, in sample order as in the
+// megakernel.
+constexpr unsigned k_warp_lanes = 32;
+constexpr unsigned k_tile_width = 8, k_tile_height = 4; // pixels
+static_assert(k_tile_width * k_tile_height == k_warp_lanes, "a tile is one warp's paths");
+
 template <class F>
 __global__ void persistent_paths_kernel(PathSceneView scene, F features, Strategy strategy,
                                         ch03::Camera<float> camera, unsigned sample,
                                         float4* sums, unsigned* non_finite,
                                         unsigned* next_path) {
   const int width = camera.pinhole.width, height = camera.pinhole.height;
-  const unsigned tiles_x = unsigned(width + 7) / 8u;
-  const unsigned paths = tiles_x * (unsigned(height + 3) / 4u) * 32u;
-  const unsigned lane = threadIdx.x % 32u;
+  const unsigned tiles_x = (unsigned(width) + k_tile_width - 1) / k_tile_width;
+  const unsigned tiles_y = (unsigned(height) + k_tile_height - 1) / k_tile_height;
+  const unsigned paths = tiles_x * tiles_y * k_warp_lanes;
+  const unsigned lane = threadIdx.x % k_warp_lanes;
   PathState path{};
   bool alive = false;
   for (;;) {
@@ -127,9 +133,9 @@ __global__ void persistent_paths_kernel(PathSceneView scene, F features, Strateg
       if (!alive) {
         const unsigned index = first + unsigned(__popc(int(idle & ((1u << lane) - 1u))));
         if (index >= paths) break; // every path is taken
-        const unsigned tile = index / 32u, within = index % 32u;
-        const int x = int((tile % tiles_x) * 8u + within % 8u);
-        const int y = int((tile / tiles_x) * 4u + within / 8u);
+        const unsigned tile = index / k_warp_lanes, within = index % k_warp_lanes;
+        const int x = int((tile % tiles_x) * k_tile_width + within % k_tile_width);
+        const int y = int((tile / tiles_x) * k_tile_height + within / k_tile_width);
         if (x >= width || y >= height) continue; // a tile's part outside the image
         path = start_path(camera, x, y, sample);
         alive = true;

@@ -13,7 +13,7 @@ WavefrontQueues::WavefrontQueues(Backend backend, long long pixels)
     : paths(backend, pixels), shadows(backend, pixels),
       hits(backend, pixels), queue{BackendArray<int>(backend, pixels),
                                    BackendArray<int>(backend, pixels)},
-      shadow_queue(backend, pixels), counters(backend, 3) {}
+      shadow_queue(backend, pixels), counters(backend, k_wavefront_counters) {}
 
 namespace {
 
@@ -58,8 +58,9 @@ template <class F> struct Shade { // shade_vertex; queue the shadow rays and the
     ShadowRays& shadows = q.shadows[p];
     shadows.count = 0;
     if (shade_vertex(scene, features, strategy, q.paths[p], q.hits[j], shadows))
-      q.next_queue[atomic_increment(&q.counters[0])] = p;
-    if (shadows.count > 0) q.shadow_queue[atomic_increment(&q.counters[1])] = p;
+      q.next_queue[atomic_increment(&q.counters[k_next_queue_length])] = p;
+    if (shadows.count > 0)
+      q.shadow_queue[atomic_increment(&q.counters[k_shadow_queue_length])] = p;
   }
 };
 
@@ -71,7 +72,7 @@ struct Connect { // the shadow rays, any hit; what reaches the light joins the p
     const int p = q.shadow_queue[j];
     const ShadowRays& shadows = q.shadows[p];
     for (int k = 0; k < shadows.count; ++k) {
-      if (count_rays) atomic_increment(&q.counters[2]);
+      if (count_rays) atomic_increment(&q.counters[k_shadow_rays_traced]);
       if (ch09::trace_wide<Query::any>(scene.tree, shadows.ray[k]).triangle < 0)
         q.paths[p].radiance += shadows.contribution[k];
     }
@@ -87,11 +88,12 @@ struct Finish { // every path has ended: its radiance joins its pixel's sum
 // [/listing:wavefront_stages]
 
 // The counters after a stage, on the host.
-void read_counters(Backend backend, const unsigned* counters, unsigned (&out)[3]) {
+void read_counters(Backend backend, const unsigned* counters,
+                   unsigned (&out)[k_wavefront_counters]) {
   if (backend == Backend::gpu) {
     RT_CUDA_CHECK(cudaMemcpy(out, counters, sizeof out, cudaMemcpyDeviceToHost));
   } else {
-    std::copy(counters, counters + 3, out);
+    std::copy(counters, counters + k_wavefront_counters, out);
   }
 }
 
@@ -134,18 +136,18 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
         ch10::for_each_index(backend, live, Extend{q, scene});
         queues.counters.clear();
         ch10::for_each_index(backend, live, Shade<decltype(f)>{q, scene, f, strategy});
-        unsigned counts[3];
+        unsigned counts[k_wavefront_counters];
         read_counters(backend, queues.counters.data(), counts);
-        ch10::for_each_index(backend, static_cast<int>(counts[1]),
+        ch10::for_each_index(backend, static_cast<int>(counts[k_shadow_queue_length]),
                              Connect{q, scene, count_shadow_rays});
         if (count_shadow_rays) {
           read_counters(backend, queues.counters.data(), counts);
-          pass.shadow_rays += counts[2];
+          pass.shadow_rays += counts[k_shadow_rays_traced];
         }
         ++pass.bounces;
         pass.extended += live;
-        pass.shadow_rays_paths += counts[1];
-        live = static_cast<int>(counts[0]);
+        pass.shadow_rays_paths += counts[k_shadow_queue_length];
+        live = static_cast<int>(counts[k_next_queue_length]);
         current = 1 - current;
       }
       ch10::for_each_index(backend, pixels, Finish{q, sums, non_finite});

@@ -15,6 +15,14 @@ namespace rt::ch11 {
 
 using ch06::KernelKind;
 
+// The wavefront's counters, by slot: what a stage counts with an atomic for the host to read.
+enum WavefrontCounter : int {
+  k_next_queue_length = 0,   // shade: the paths that go on to the next bounce
+  k_shadow_queue_length = 1, // shade: the paths with shadow rays to trace
+  k_shadow_rays_traced = 2,  // connect: the shadow rays it traced (when counted)
+  k_wavefront_counters = 3,  // how many
+};
+
 // The memory of one pass of the wavefront over an image of `pixels` pixels: a path per pixel
 // and its shadow rays, the hits of the paths in the queue, and the queues themselves: 192
 // bytes per pixel, 398 MB for 1920x1080, where the megakernel keeps the same in registers.
@@ -28,8 +36,7 @@ public:
   BackendArray<TraceHit> hits;      // hits[j]: what queue entry j's ray found
   BackendArray<int> queue[2];       // the live paths: this bounce's, the next bounce's
   BackendArray<int> shadow_queue;   // paths with shadow rays to trace
-  BackendArray<unsigned> counters;  // [0]: next queue's length, [1]: shadow queue's length,
-                                    // [2]: shadow rays traced (when counted)
+  BackendArray<unsigned> counters;  // by WavefrontCounter
 };
 
 // The wavefront's statistics of its last pass, for the report.
