@@ -11,8 +11,10 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -21,6 +23,7 @@
 #include <memory>
 #include <set>
 #include <streambuf>
+#include <string_view>
 #include <system_error>
 #include <utility>
 
@@ -122,38 +125,135 @@ private:
   std::function<void(std::size_t)> read_up_to_;
 };
 
+// True when `text` is a decimal number as tinyobjloader reads one whole ("-1.5e3", ".5", "2.")
+// and finite as a double: "inf", "nan", "0x10", "1e400" and "5abc" are not.
+bool is_finite_decimal(std::string_view text) {
+  std::size_t i = 0, digits = 0;
+  const auto skip_digits = [&] {
+    const std::size_t from = i;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') ++i;
+    return i - from;
+  };
+  if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+  digits += skip_digits();
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    digits += skip_digits();
+  }
+  if (digits == 0) return false;
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    if (skip_digits() == 0) return false;
+  }
+  return i == text.size() && std::isfinite(std::strtod(std::string(text).c_str(), nullptr));
+}
+
+// The Kd and Ke statements of an .mtl text that are not three finite numbers, the first of
+// each material, by the material's name as tinyobjloader reads it (lines end at \n, \r or
+// both; the name is the rest of the `newmtl` line after one blank, trailing blanks cut).
+// Statements before the first `newmtl` belong to no material.
+std::map<std::string, std::string> unreadable_colours(std::string_view text) {
+  std::map<std::string, std::string> unreadable;
+  std::string material;
+  bool named = false;
+  while (!text.empty()) {
+    const std::size_t end = std::min(text.find_first_of("\r\n"), text.size());
+    std::string_view line = text.substr(0, end);
+    text.remove_prefix(std::min(end + 1, text.size()));
+    line.remove_suffix(line.size() - std::min(line.find_last_not_of(" \t") + 1, line.size()));
+    line.remove_prefix(std::min(line.find_first_not_of(" \t"), line.size()));
+    const auto is_blank = [](char c) { return c == ' ' || c == '\t'; };
+    if (line.size() > 6 && line.starts_with("newmtl") && is_blank(line[6])) {
+      material = std::string(line.substr(7));
+      named = true;
+      continue;
+    }
+    if (!named || line.size() < 3 || !is_blank(line[2]) ||
+        !(line.starts_with("Kd") || line.starts_with("Ke")) || unreadable.contains(material))
+      continue;
+    std::vector<std::string_view> values;
+    for (std::string_view rest = line.substr(3); !rest.empty();) {
+      rest.remove_prefix(std::min(rest.find_first_not_of(" \t"), rest.size()));
+      const std::size_t length = std::min(rest.find_first_of(" \t"), rest.size());
+      if (length > 0) values.push_back(rest.substr(0, length));
+      rest.remove_prefix(length);
+    }
+    if (values.size() != 3 || !std::ranges::all_of(values, is_finite_decimal))
+      unreadable.emplace(material, std::string(line));
+  }
+  return unreadable;
+}
+
 // Reads the .mtl files that `mtllib` names, from the OBJ file's folder. tinyobjloader asks for
 // each name once; "false" means not found, and it then carries on without those materials,
 // so the faces that use them get material id -1. That is this chapter's rule for a missing
-// .mtl: the geometry is still right, and a renderer can draw those faces in a default material.
+// .mtl: the geometry is still right, and a renderer can draw those faces in a default material;
+// the reader is told, in a warning. Each material is kept with its file and with what the
+// text's Kd and Ke hold that tinyobjloader's numbers hide (ObjMaterial::unreadable).
 class MaterialFolder final : public tinyobj::MaterialReader {
 public:
-  MaterialFolder(std::filesystem::path folder, const LoadLimits& limits)
-      : folder_(std::move(folder)), limits_(limits) {}
+  MaterialFolder(std::filesystem::path folder, std::string obj_name, const LoadLimits& limits)
+      : folder_(std::move(folder)), obj_name_(std::move(obj_name)), limits_(limits) {}
 
   bool operator()(const std::string& file, std::vector<tinyobj::material_t>* materials,
-                  std::map<std::string, int>* names, std::string* warnings,
+                  std::map<std::string, int>* names, std::string* /*warnings*/,
                   std::string* errors) override {
     namespace fs = std::filesystem;
     const fs::path path = folder_ / file;
     std::error_code error;
-    if (!fs::is_regular_file(path, error)) return false;
+    if (!fs::is_regular_file(path, error)) return missing(file, path);
     fs::path same_file = fs::weakly_canonical(path, error);
     if (error) same_file = path;
     if (!loaded_.insert(same_file).second) return true; // named twice, loaded once
     const File stream_file(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!stream_file) return false;
+    if (!stream_file) return missing(file, path);
     const std::string text = read_all(stream_file.get(), limits_.max_file_bytes, path.string());
     TextStreamBuffer buffer(text);
     std::istream stream(&buffer);
-    tinyobj::LoadMtl(names, materials, &stream, warnings, errors);
+    const std::size_t first = materials->size();
+    std::string notes;
+    tinyobj::LoadMtl(names, materials, &stream, &notes, errors);
+    add_lines(warnings_, path.string(), notes);
+    const std::map<std::string, std::string> unreadable = unreadable_colours(text);
+    for (std::size_t k = first; k < materials->size(); ++k) {
+      const tinyobj::material_t& m = (*materials)[k];
+      const auto found = unreadable.find(m.name);
+      materials_.push_back({m.name, path.string(),
+                            Vec3d{m.diffuse[0], m.diffuse[1], m.diffuse[2]},
+                            Vec3d{m.emission[0], m.emission[1], m.emission[2]},
+                            found == unreadable.end() ? std::string() : found->second});
+    }
     return true;
   }
 
+  std::vector<ObjMaterial>& materials() { return materials_; }
+  std::vector<std::string>& warnings() { return warnings_; }
+
+  // Each line of `text` as a warning about `file`.
+  static void add_lines(std::vector<std::string>& warnings, const std::string& file,
+                        std::string_view text) {
+    while (!text.empty()) {
+      const std::size_t end = std::min(text.find('\n'), text.size());
+      if (const std::string_view line = text.substr(0, end); !line.empty())
+        warnings.push_back(file + ": " + std::string(line));
+      text.remove_prefix(std::min(end + 1, text.size()));
+    }
+  }
+
 private:
+  bool missing(const std::string& file, const std::filesystem::path& path) {
+    warnings_.push_back(obj_name_ + ": mtllib " + file + ": no such file (" + path.string() +
+                        "); the faces that use its materials get the default material");
+    return false;
+  }
+
   std::filesystem::path folder_;
+  std::string obj_name_;
   LoadLimits limits_;
   std::set<std::filesystem::path> loaded_;
+  std::vector<ObjMaterial> materials_; // tinyobjloader's materials, in its order
+  std::vector<std::string> warnings_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -312,7 +412,7 @@ ObjMesh convert(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shap
 }
 
 ObjMesh parse_text(std::string text, const std::string& name, const LoadLimits& limits,
-                   tinyobj::MaterialReader* material_reader) {
+                   MaterialFolder* material_folder) {
   if (text.empty()) fail(name, "the file is empty");
   // A model of millions of triangles takes seconds to check and to parse: both say how far
   // they have come (rt/cpu_progress.h), as one piece of work of twice the text's size.
@@ -330,23 +430,37 @@ ObjMesh parse_text(std::string text, const std::string& name, const LoadLimits& 
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;
+  std::string warnings;
   {
     TextStreamBuffer buffer(text, [&](std::size_t offset) {
       progress.update(static_cast<long long>(text.size() + offset));
     });
     std::istream stream(&buffer);
-    std::string warnings, errors;
+    std::string errors;
     // Polygons are kept whole (triangulate = false, see convert()); per-vertex colours, an
     // extension this course does not use, are not stored (default_vcols_fallback = false).
-    // Warnings are not shown: after the line checks they can only be about materials, and a
-    // missing material is allowed (see MaterialFolder).
+    // After the line checks its warnings can only be about materials: they are passed on.
     if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warnings, &errors, &stream,
-                          material_reader, false, false)) {
+                          material_folder, false, false)) {
       disagreement(name, errors.substr(0, std::min<std::size_t>(errors.find('\n'), 120)));
     }
   }
   text = std::string(); // no longer needed: its memory goes back before the mesh is built
-  return convert(attrib, shapes, materials, counts, name);
+  ObjMesh mesh = convert(attrib, shapes, materials, counts, name);
+  if (material_folder != nullptr) {
+    mesh.materials = std::move(material_folder->materials());
+    if (mesh.materials.size() != mesh.material_names.size())
+      disagreement(name, "materials read from the .mtl files");
+    mesh.warnings = std::move(material_folder->warnings());
+  }
+  // The folder's warning names the missing file; tinyobjloader's general one adds nothing.
+  const std::string general = "Failed to load material file(s). Use default material.\n";
+  for (std::size_t at; (at = warnings.find(general)) != std::string::npos;)
+    warnings.erase(at, general.size());
+  MaterialFolder::add_lines(mesh.warnings, name, warnings);
+  std::set<std::string> seen; // a `usemtl` of a missing material warns at every use
+  std::erase_if(mesh.warnings, [&](const std::string& w) { return !seen.insert(w).second; });
+  return mesh;
 }
 
 } // namespace
@@ -365,7 +479,7 @@ std::string describe_load_limits(const LoadLimits& limits) {
 ObjMesh load_obj(const std::string& path, const LoadLimits& limits) {
   std::string bytes = read_obj_file(path, limits);
   if (is_gzip(bytes)) bytes = gunzip(bytes, path, limits.max_file_bytes);
-  MaterialFolder materials(std::filesystem::path(path).parent_path(), limits);
+  MaterialFolder materials(std::filesystem::path(path).parent_path(), path, limits);
   return parse_text(std::move(bytes), path, limits, &materials);
 }
 

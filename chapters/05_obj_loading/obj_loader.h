@@ -26,6 +26,19 @@ struct LoadLimits {
 };
 // [/listing:load_limits]
 
+// A material of the .mtl files, with the colours a renderer that shades by them reads
+// (chapter 11), as tinyobjloader parsed them, and the file that defines it.
+struct ObjMaterial {
+  std::string name; // `newmtl`
+  std::string file; // the .mtl file, as the loader opened it
+  Vec3d diffuse;    // Kd (0 where the file gives none)
+  Vec3d emission;   // Ke (0 where the file gives none)
+  // Empty, or the first Kd or Ke statement of the material whose values are not three finite
+  // numbers in the text ("Ke inf 1 1"): tinyobjloader reads what it cannot parse as 0 and a
+  // number too large for a double as infinity, so the colours above cannot tell.
+  std::string unreadable;
+};
+
 // A loaded mesh. Triangle i of `geometry` has corner normals normal_indices[i] and corner
 // texture coordinates texcoord_indices[i] (-1 where its face gave none) and material
 // material_ids[i]. Indices count from 0, unlike the file's, which count from 1.
@@ -37,9 +50,14 @@ struct ObjMesh {
   std::vector<ch04::IndexedTriangle> texcoord_indices; // per triangle; empty with no `vt`
   std::vector<int> material_ids;                       // per triangle; -1: default material
   std::vector<std::string> material_names;             // from the .mtl files, in file order
-  int object_count = 0;              // runs of faces under one `o` or `g` name (at least 1)
-  int degenerate_triangle_count = 0; // zero area in float: valid geometry, never hit
-  Vec3f bounds_min, bounds_max;      // of the positions that triangles use
+  int object_count = 0;               // runs of faces under one `o` or `g` name (at least 1)
+  int degenerate_triangle_count = 0;  // zero area in float: valid geometry, never hit
+  Vec3f bounds_min, bounds_max;       // of the positions that triangles use
+  std::vector<ObjMaterial> materials; // material_names' materials, in the same order
+  // What loading noticed and let pass, one sentence each that begins with the file it is
+  // about: a .mtl file that `mtllib` names and is not there, a `usemtl` name no .mtl file
+  // defines, tinyobjloader's notes on the .mtl text. Each only once.
+  std::vector<std::string> warnings;
 };
 
 // One sentence for a program's --help: what a file may hold (the limits above and the
@@ -48,12 +66,13 @@ std::string describe_load_limits(const LoadLimits& limits = {});
 
 // Loads an OBJ file. Gzip-compressed files are recognised by their first two bytes (the gzip
 // magic number), whatever the file is called. Materials come from the .mtl files that
-// `mtllib` names, looked up next to the OBJ file; a missing .mtl is not an error: faces whose
-// `usemtl` names no loaded material get material id -1. Throws rt::InputError with one line,
-// "path:line: what is wrong", for every problem it finds, among them what the float pipeline
-// cannot trace (chapter 03's supported_range.h): a coordinate beyond +-k_max_coordinate, a
-// triangle with area spanning less than k_min_length, a mesh whose triangles are all flat.
-// Loading a large model prints progress lines on stderr (rt/cpu_progress.h).
+// `mtllib` names, looked up next to the OBJ file; a missing .mtl is not an error but a
+// warning: faces whose `usemtl` names no loaded material get material id -1. Throws
+// rt::InputError with one line, "path:line: what is wrong", for every problem it finds, among
+// them what the float pipeline cannot trace (chapter 03's supported_range.h): a coordinate
+// beyond +-k_max_coordinate, a triangle with area spanning less than k_min_length, a mesh whose
+// triangles are all flat. Loading a large model prints progress lines on stderr
+// (rt/cpu_progress.h).
 ObjMesh load_obj(const std::string& path, const LoadLimits& limits = {});
 
 // The same from bytes already in memory (OBJ text, or gzip data holding it); errors name
