@@ -163,6 +163,9 @@ template <class F> int persistent_blocks() {
 }
 
 RT_HD inline float filmic(float x) { // Narkowicz 2015's fit of the ACES curve
+  // The curve reaches 1 at x = 7.25. Far beyond, at 1.8e19, x * x overflows and inf / inf is
+  // NaN, which clamps to black: the brightest pixels would come out darkest.
+  if (!(x < 16.0f)) return 1.0f;
   const float y = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
   return clamp_to(y, 0.0f, 1.0f);
 }
