@@ -8,6 +8,7 @@
 
 #include "bvh.h"
 #include "camera_spec.h"
+#include "protocol.h"
 #include "rt/backend.h"
 #include "rt/report.h"
 #include "shaded_scene.h"
@@ -21,8 +22,8 @@ struct ChapterReportOptions {
   BuildOptions build; // leaf size and bins of both trees
   ch04::TriangleVariant variant = ch04::TriangleVariant::watertight;
   bool smooth = true, shadows = true;
-  long long reference_rays = 1024; // rays traced by the float64 reference
-  int frames = 0;                  // timed runs; 0: the protocol's
+  long long reference_rays = k_protocol_reference_rays; // rays the float64 reference traces
+  int frames = 0;                                       // timed runs; 0: the protocol's
 };
 
 // Adds the rows for each backend of `backends` (the GPU first, when there).

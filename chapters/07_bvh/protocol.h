@@ -16,6 +16,7 @@
 #include "cosine_sampling.h"
 #include "ray.h"
 #include "rt/hd.h"
+#include "rt/launch.h"
 #include "rt/vec.h"
 #include "triangles.h"
 
@@ -23,6 +24,13 @@ namespace rt::ch07 {
 
 using ch03::RayF;
 using ch04::MeshHit;
+
+// ---------------------------------------------------------------------------------------------
+// The protocol's numbers (book appendix A), named once for every chapter that runs it.
+
+inline constexpr Extent k_protocol_extent{1920, 1080}; // the image, unless --width/--height
+inline constexpr int k_protocol_check_rays = 4096;     // rays of a batch traced by brute force
+inline constexpr long long k_protocol_reference_rays = 1024; // ... and by the float64 reference
 
 // ---------------------------------------------------------------------------------------------
 // Views: where the camera stands for each scene of the benchmark set.

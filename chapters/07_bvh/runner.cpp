@@ -14,6 +14,7 @@
 #include "obj_loader.h"
 #include "protocol.h"
 #include "reference.h"
+#include "rt/cpu_progress.h"
 #include "rt/device_buffer.h"
 #include "rt/error.h"
 #include "rt/timer.h"
@@ -32,6 +33,57 @@ std::vector<T> pick(std::span<const T> all, const std::vector<std::size_t>& inde
   out.reserve(index.size());
   for (const std::size_t i : index) out.push_back(all[i]);
   return out;
+}
+
+// The runner's progress lines. On the CPU one scene takes minutes, in steps of a few seconds
+// each (a tracer's timed runs on one batch): too short for the launch helpers' own lines
+// (rt/cpu_progress.h), which speak only after five seconds of one call. So the runner says
+// what it is doing whenever a period has passed since its last line, "conference, diffuse
+// rays, wide8: timed run 3 of 5, 85 s on the scene", and names the step for the launch
+// helpers' lines too (CpuWorkName).
+class StepProgress {
+public:
+  explicit StepProgress(const RunnerOptions& o)
+      : out_(o.progress), period_(o.progress_period), start_(Clock::now()),
+        next_line_(start_ + period_) {}
+
+  // The step now running: "conference, diffuse rays, wide8".
+  void begin(std::string step) {
+    name_.reset(); // the previous step's name goes before the next one is set
+    name_.emplace(step);
+    step_ = std::move(step);
+    update();
+  }
+  // A line, if a period has passed since the last one: the step, then `detail` if any.
+  void update(const std::string& detail = "") {
+    const Clock::time_point now = Clock::now();
+    if (out_ == nullptr || now < next_line_) return;
+    next_line_ = now + period_;
+    const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(now - start_);
+    std::cout.flush(); // the report's lines and these stay in order on one terminal
+    *out_ << step_ << (detail.empty() ? "" : ": " + detail) << ", " << seconds.count()
+          << " s on the scene" << std::endl;
+  }
+  // Run `done` of `plan`'s runs (warm-ups first) is starting; cheap unless a line is due.
+  void update(int done, const TimingPlan& plan) {
+    if (out_ == nullptr || Clock::now() < next_line_) return;
+    update(done < plan.warmups ? "warm-up"
+                               : "timed run " + std::to_string(done - plan.warmups + 1) +
+                                     " of " + std::to_string(plan.runs));
+  }
+
+private:
+  using Clock = std::chrono::steady_clock;
+  std::ostream* out_;
+  std::chrono::milliseconds period_;
+  Clock::time_point start_, next_line_;
+  std::string step_;
+  std::optional<CpuWorkName> name_;
+};
+
+// "conference, diffuse rays": a batch's part of a step's name.
+std::string batch_step(const std::string& scene, RayType type) {
+  return scene + ", " + to_string(type) + " rays";
 }
 
 // An any-hit query answers only "occluded or not": keep just that of each hit.
@@ -152,7 +204,13 @@ BatchChecks batch_checks(const LoadedScene& s, const RunnerOptions& o, const Bat
                       d_brute.data());
       checks.brute = d_brute.to_host();
     } else {
-      checks.brute = ch04::closest_hits_cpu(o.variant, s.mesh(), sample);
+      // Chapter 07's ray loop rather than chapter 04's rows of 1 024 rays: on a large model
+      // a row takes seconds, and this loop's smaller chunks keep the progress lines coming.
+      checks.brute.resize(sample.size());
+      const ch04::MeshView mesh = ch04::host_view(s.mesh());
+      for_each_ray_cpu(sample.size(), [&](std::size_t i) {
+        checks.brute[i] = ch04::closest_hit(o.variant, mesh, sample[i]);
+      });
     }
   }
   if (o.reference_rays > 0 && batch.type != RayType::ao)
@@ -165,7 +223,8 @@ struct Traced {
   Timing timing;
 };
 
-Traced trace_timed(const Tracer& tracer, const RunnerOptions& o, const Batch& batch) {
+Traced trace_timed(const Tracer& tracer, const RunnerOptions& o, const Batch& batch,
+                   StepProgress& progress) {
   Traced out;
   out.hits.resize(batch.rays.size());
   const Query query = query_for(batch.type);
@@ -177,7 +236,14 @@ Traced trace_timed(const Tracer& tracer, const RunnerOptions& o, const Batch& ba
         [&] { tracer.trace_gpu(query, batch.device(), batch.count(), d_hits.data()); }, plan);
     d_hits.download(out.hits);
   } else {
-    out.timing = time_cpu([&] { tracer.trace_cpu(query, batch.rays, out.hits); }, plan);
+    // Each run may say where the timing has come: a clock read when no line is due.
+    int run = 0;
+    out.timing = time_cpu(
+        [&] {
+          progress.update(run++, plan);
+          tracer.trace_cpu(query, batch.rays, out.hits);
+        },
+        plan);
   }
   return out;
 }
@@ -211,8 +277,9 @@ std::string agreement_text(const Tracer& tracer, const Batch& batch,
 }
 
 ReportRow tracer_row(const LoadedScene& s, const RunnerOptions& o, const Tracer& tracer,
-                     const Batch& batch, const BatchChecks& checks, TracerFigure& figure) {
-  const Traced traced = trace_timed(tracer, o, batch);
+                     const Batch& batch, const BatchChecks& checks, StepProgress& progress,
+                     TracerFigure& figure) {
+  const Traced traced = trace_timed(tracer, o, batch, progress);
   const double mrays =
       batch.rays.empty() ? 0.0 : double(batch.rays.size()) / (traced.timing.median_ms * 1e3);
   ReportRow row{s.name + ", " + to_string(batch.type) + ", " + tracer.name,
@@ -245,6 +312,7 @@ ReportRow tracer_row(const LoadedScene& s, const RunnerOptions& o, const Tracer&
   }
   if (checks.reference) row.error += "; " + error_against(*checks.reference, traced.hits, row);
   if (o.count_work && tracer.work) {
+    progress.update("counting the work per ray");
     const TraversalWork work = tracer.work(query_for(batch.type), batch.rays);
     row.error += "; " + format_fixed(work.nodes_per_ray, 1) + " nodes, " +
                  format_fixed(work.triangles_per_ray, 1) + " triangles per ray";
@@ -265,7 +333,8 @@ ReportRow tracer_row(const LoadedScene& s, const RunnerOptions& o, const Tracer&
 
 // The end-to-end frame: camera rays, the tree, chapter 06's Lambertian shading with smooth
 // normals and a shadow ray per light, and 8-bit pixels written, at the benchmark's size.
-ReportRow shaded_frame_row(const LoadedScene& s, const RunnerOptions& o, double& frame_ms) {
+ReportRow shaded_frame_row(const LoadedScene& s, const RunnerOptions& o, StepProgress& progress,
+                           double& frame_ms) {
   const ch06::ShadedScene scene = ch06::scene_from_obj(s.obj, ch06::LightSettings{});
   const unsigned features = ch06::features_used(scene, true, true);
   ch03::Camera<float> camera;
@@ -291,8 +360,14 @@ ReportRow shaded_frame_row(const LoadedScene& s, const RunnerOptions& o, double&
     const auto render = [&](ch06::ShadedPixelRecord* out) {
       render_bvh_shaded(Backend::cpu, features, view, camera, extent, pixels.data(), out);
     };
-    timing = time_on(
-        Backend::cpu, [&] { render(nullptr); }, o.frames);
+    const TimingPlan plan = timing_plan(Backend::cpu, o.frames);
+    int run = 0;
+    timing = time_cpu(
+        [&] {
+          progress.update(run++, plan);
+          render(nullptr);
+        },
+        plan);
     render(records.data());
   }
   long long shadow_rays = 0;
@@ -368,26 +443,44 @@ std::string scene_name(const std::string& path) {
   return name;
 }
 
+namespace {
+
+// The file of a benchmark scene in `folder`, if it is there.
+std::optional<std::string> benchmark_file(const std::string& folder, const std::string& name) {
+  const std::filesystem::path path = std::filesystem::path(folder) / (name + ".obj.gz");
+  std::error_code ignored;
+  if (!std::filesystem::is_regular_file(path, ignored)) return std::nullopt;
+  return path.string();
+}
+
+} // namespace
+
 std::vector<std::string> benchmark_set(const std::string& folder) {
   std::vector<std::string> found;
-  for (const char* name : {"stanford-bunny", "armadillo-100k", "stanford-dragon", "conference",
-                           "sponza-dabrovic"}) {
-    const std::filesystem::path path =
-        std::filesystem::path(folder) / (std::string(name) + ".obj.gz");
-    std::error_code ignored;
-    if (std::filesystem::is_regular_file(path, ignored)) found.push_back(path.string());
-  }
+  for (const char* name : k_benchmark_set)
+    if (const std::optional<std::string> path = benchmark_file(folder, name))
+      found.push_back(*path);
   if (found.empty())
     throw InputError("--benchmark: no scenes given and none of the benchmark set in " + folder +
                      " (tools/get-models.sh fetches it, or name OBJ files)");
   return found;
 }
 
+std::vector<std::string> missing_from_benchmark_set(const std::string& folder) {
+  std::vector<std::string> missing;
+  for (const char* name : k_benchmark_set)
+    if (!benchmark_file(folder, name)) missing.push_back(name);
+  return missing;
+}
+
 // [listing:run_scene]
 SceneResult run_scene(const SceneInput& input, const std::vector<TracerMaker>& makers,
                       const RunnerOptions& o, Report& report) {
+  StepProgress progress(o); // every step named, a line every few seconds
+  progress.begin(scene_name(input.path) + ": loading, chapter 07's tree");
   const LoadedScene s = load_scene(input, o);
   const TracerScene scene{s.name, s.mesh(), s.bvh, s.camera, o.backend, o.variant};
+  progress.begin(s.name + ": the tracers' trees");
   std::vector<Tracer> tracers;
   for (const TracerMaker& make : makers)
     for (Tracer& t : make(scene))
@@ -399,16 +492,19 @@ SceneResult run_scene(const SceneInput& input, const std::vector<TracerMaker>& m
   result.build_ms = s.bvh.stats.build_ms;
   result.bytes_per_triangle = s.bvh.stats.bytes_per_triangle;
   // The primary batch always: the secondary rays start from chapter 07's primary hits.
+  progress.begin(batch_step(s.name, RayType::primary) + ": the rays, chapter 07's hits");
   const Batch primary = primary_batch(s, o);
   for (const RayType type : o.ray_types) {
+    progress.begin(batch_step(s.name, type) + ": the rays, chapter 07's hits, the checks");
     std::optional<Batch> secondary;
     if (type != RayType::primary) secondary = secondary_batch(s, o, type, primary);
     const Batch& batch = secondary ? *secondary : primary;
     const BatchChecks checks = batch_checks(s, o, batch);
     for (const Tracer& tracer : tracers) {
       if (tracer.camera_rays_only && type != RayType::primary) continue;
+      progress.begin(batch_step(s.name, type) + ", " + tracer.name);
       TracerFigure figure;
-      report.add_row(tracer_row(s, o, tracer, batch, checks, figure));
+      report.add_row(tracer_row(s, o, tracer, batch, checks, progress, figure));
       result.problems += figure.disagreeing;
       result.figures.push_back(figure);
     }
@@ -416,7 +512,10 @@ SceneResult run_scene(const SceneInput& input, const std::vector<TracerMaker>& m
   if (o.build_rows)
     report.add_row(build_row(
         s.name + ", build (" + std::string(to_string(o.build.method)) + ", CPU)", s.bvh));
-  if (o.end_to_end) report.add_row(shaded_frame_row(s, o, result.frame_ms));
+  if (o.end_to_end) {
+    progress.begin(s.name + ": the shaded frame");
+    report.add_row(shaded_frame_row(s, o, progress, result.frame_ms));
+  }
   return result;
 }
 // [/listing:run_scene]
@@ -471,11 +570,14 @@ void add_runner_context(Report& report, const RunnerOptions& o) {
                                  std::to_string(o.build.max_leaf_size) + " triangles, " +
                                  std::to_string(o.build.bins) + " bins");
   report.add_context("triangle test", ch04::to_string(o.variant));
-  const std::string cpu_plan =
-      "median of 5 after 1 warm-up, " + std::to_string(cpu_thread_count()) + " CPU threads";
-  report.add_context("timing", o.backend == Backend::gpu
-                                   ? "kernel only: CUDA events, median of 50 after 5 warm-ups"
-                                   : cpu_plan);
+  const TimingPlan plan = timing_plan(o.backend, o.frames);
+  const std::string runs = "median of " + std::to_string(plan.runs) + " after " +
+                           std::to_string(plan.warmups) +
+                           (plan.warmups == 1 ? " warm-up" : " warm-ups");
+  report.add_context("timing",
+                     o.backend == Backend::gpu
+                         ? "kernel only: CUDA events, " + runs
+                         : runs + ", " + std::to_string(cpu_thread_count()) + " CPU threads");
 }
 
 namespace {

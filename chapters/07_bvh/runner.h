@@ -6,6 +6,8 @@
 // add tracers; they never copy this loop.
 #pragma once
 
+#include <chrono>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -21,7 +23,7 @@
 namespace rt::ch07 {
 
 struct RunnerOptions {
-  Extent extent{1920, 1080};
+  Extent extent = k_protocol_extent;
   Backend backend = Backend::gpu; // resolved
   TriangleVariant variant = TriangleVariant::watertight;
   BuildOptions build; // chapter 07's tree, the one every tracer is checked against
@@ -32,7 +34,19 @@ struct RunnerOptions {
   bool count_work = false;      // nodes and triangles per ray, where a tracer counts them (CPU)
   bool build_rows = false;      // a row for chapter 07's build of each scene
   bool end_to_end = false;      // also time chapter 06's shaded frame through chapter 07's tree
+  // Progress lines naming the step (scene, ray type, tracer) whenever this long has passed
+  // since the last one; null: none.
+  std::ostream* progress = &std::cerr;
+  std::chrono::milliseconds progress_period = std::chrono::seconds(5);
 };
+
+// The options of a benchmark run by the protocol's rules: every batch checked against brute
+// force on k_protocol_check_rays rays.
+inline RunnerOptions protocol_runner_options() {
+  RunnerOptions o;
+  o.check_rays = k_protocol_check_rays;
+  return o;
+}
 
 // One tracer's figure for one ray type.
 struct TracerFigure {
@@ -62,10 +76,15 @@ ReportRow build_row(const std::string& variant, const Bvh& bvh);
 // is "conference").
 std::string scene_name(const std::string& path);
 
-// The scenes of the benchmark set found in `folder` (stanford-bunny, armadillo-100k,
-// stanford-dragon, conference, sponza-dabrovic, as .obj.gz); throws InputError, naming the
-// folder and tools/get-models.sh, if none is there.
+// The benchmark set's scenes, in the order they are measured.
+inline constexpr const char* k_benchmark_set[] = {
+    "stanford-bunny", "armadillo-100k", "stanford-dragon", "conference", "sponza-dabrovic"};
+
+// The scenes of the benchmark set found in `folder` (k_benchmark_set, as .obj.gz); throws
+// InputError, naming the folder and tools/get-models.sh, if none is there.
 std::vector<std::string> benchmark_set(const std::string& folder);
+// The names of k_benchmark_set that `folder` lacks.
+std::vector<std::string> missing_from_benchmark_set(const std::string& folder);
 
 // The protocol on every scene file, with the tracers `makers` make for it: rows go to
 // `report`; returns the figures.
@@ -109,7 +128,8 @@ std::string tracer_tables(const std::vector<SceneResult>& results, const std::st
 std::vector<MeshHit> trace_with(const Tracer& tracer, Backend backend, Query query,
                                 std::span<const RayF> rays);
 
-// The runner's context lines for a report: device, image, tree, triangle test, timing.
+// The runner's context lines for a report: device, image, tree, triangle test, and the timing
+// with the runs it really makes (timing_plan of the backend and options.frames).
 void add_runner_context(Report& report, const RunnerOptions& options);
 
 } // namespace rt::ch07

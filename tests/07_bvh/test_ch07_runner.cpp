@@ -1,10 +1,12 @@
 // Chapter 07 tests of the benchmark runner: a tracer that answers wrongly is caught on every
 // ray type, the two hit rules (bit for bit, up to exact ties) accept and refuse what they
-// should, a tracer that makes its own camera rays is timed on primary rays only, and the
-// industry's figures are read from their data file, matched to a device and refused when
-// malformed.
+// should, a tracer that makes its own camera rays is timed on primary rays only, its progress
+// lines name every step, and the industry's figures are read from their data file, matched to
+// a device and refused when malformed.
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -129,6 +131,23 @@ TEST_CASE("runner: brute force on sampled rays and the build row", "[ch07]") {
   CHECK_THAT(report.rows()[0].error, contains("sampled rays differ from brute force"));
   CHECK(report.rows()[3].variant == "twin_box, build (sah, CPU)");
   CHECK(r.triangles == 20);
+}
+
+TEST_CASE("runner: its progress lines name the scene, the ray type and the tracer", "[ch07]") {
+  const std::string box = write_twin_box(rt::testing::temp_folder("rt_ch07_runner"));
+  RunnerOptions o = small_cpu_run();
+  std::ostringstream lines;
+  o.progress = &lines;
+  o.progress_period = std::chrono::milliseconds(0); // a line at every step
+  Report report("runner test", "Mrays/s", "chapter 07's hits");
+  run_scene({box}, {chapter07_tracers}, o, report);
+  INFO(lines.str());
+  for (const char* line :
+       {"twin_box: loading, chapter 07's tree, ",
+        "twin_box, ao rays: the rays, chapter 07's hits, the checks, ",
+        "twin_box, primary rays, sah: warm-up, ", "twin_box, ao rays, sah: timed run 1 of 1, ",
+        "twin_box, diffuse rays, sah: timed run 1 of 1, "})
+    CHECK_THAT(lines.str(), contains(line));
 }
 
 TEST_CASE("runner: the benchmark set's folder must hold some of it", "[ch07]") {
