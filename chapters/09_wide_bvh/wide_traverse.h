@@ -5,6 +5,7 @@
 #pragma once
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -22,54 +23,23 @@ using ch03::RayF;
 using ch07::Query;
 using ch07::TraceHit;
 
-#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
-// On a CPU with AVX2: the ray broadcast over the eight lanes of a vector register, and the
-// byte offsets of each axis's near and far planes in a node's six plane arrays (lo_x lo_y lo_z
-// hi_x hi_y hi_z, 8 floats each), which the ray's signs pick. Made once per ray, for the
-// eight-wide node reads (node_bits_avx2, below).
-struct EightLaneRay {
-  __m256 origin_x, origin_y, origin_z, inverse_x, inverse_y, inverse_z;
-  __m256i octant_inverse;
-  int near_x, near_y, near_z, far_x, far_y, far_z;
-};
-#endif
-
 // What every node test of one ray shares: chapter 07's box ray (origin, 1/direction and the
-// signs that pick each axis's near plane) and the ray's octant, inverted (and, on a CPU with
-// AVX2, the same in eight lanes).
+// signs that pick each axis's near plane) and the ray's octant, inverted. The same 32 bytes on
+// both backends and under every compile flag: the CPU's eight-lane form of the ray is a type
+// of its own (WideRayAvx2, below), which the scalar code never sees.
 struct WideRay {
   ch07::BoxRay box;
   unsigned octant_inverse; // 7 - octant, octant bit k set where 1/direction_k < 0
-#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
-  EightLaneRay lanes;
-#endif
 };
+static_assert(sizeof(ch07::BoxRay) == 28 && sizeof(WideRay) == 32 &&
+                  offsetof(WideRay, octant_inverse) == 28,
+              "one layout of WideRay for every compiler and flag that builds the course");
 
 RT_INLINE_ON_CPU RT_HD inline WideRay make_wide_ray(const RayF& ray) {
   const ch07::BoxRay box = ch07::make_box_ray(ray);
   const unsigned octant =
       (box.negative[0] ? 1u : 0u) | (box.negative[1] ? 2u : 0u) | (box.negative[2] ? 4u : 0u);
-#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
-  constexpr int k_array = 8 * sizeof(float), k_hi = 3 * k_array; // bytes
-  const auto near = [&](int axis) { return axis * k_array + (box.negative[axis] ? k_hi : 0); };
-  const auto far = [&](int axis) { return axis * k_array + (box.negative[axis] ? 0 : k_hi); };
-  const EightLaneRay lanes{_mm256_set1_ps(box.origin.x),
-                           _mm256_set1_ps(box.origin.y),
-                           _mm256_set1_ps(box.origin.z),
-                           _mm256_set1_ps(box.inverse.x),
-                           _mm256_set1_ps(box.inverse.y),
-                           _mm256_set1_ps(box.inverse.z),
-                           _mm256_set1_epi32(int(7u - octant)),
-                           near(0),
-                           near(1),
-                           near(2),
-                           far(0),
-                           far(1),
-                           far(2)};
-  return {box, 7u - octant, lanes};
-#else
   return {box, 7u - octant};
-#endif
 }
 
 // The planes of N child boxes, nearer plane and farther plane per axis for this ray's signs.
@@ -247,6 +217,43 @@ RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const CompressedNode& n, con
 }
 
 #if defined(__AVX2__)
+// On a CPU with AVX2: the ray broadcast over the eight lanes of a vector register, and the
+// byte offsets of each axis's near and far planes in a node's six plane arrays (lo_x lo_y lo_z
+// hi_x hi_y hi_z, 8 floats each), which the ray's signs pick. Made once per ray, for the
+// eight-wide node reads (node_bits_avx2, below).
+struct EightLaneRay {
+  __m256 origin_x, origin_y, origin_z, inverse_x, inverse_y, inverse_z;
+  __m256i octant_inverse;
+  int near_x, near_y, near_z, far_x, far_y, far_z;
+};
+
+RT_INLINE_ON_CPU inline EightLaneRay make_eight_lane_ray(const WideRay& r) {
+  constexpr int k_array = 8 * sizeof(float), k_hi = 3 * k_array; // bytes
+  const auto near = [&](int axis) {
+    return axis * k_array + (r.box.negative[axis] ? k_hi : 0);
+  };
+  const auto far = [&](int axis) { return axis * k_array + (r.box.negative[axis] ? 0 : k_hi); };
+  return {_mm256_set1_ps(r.box.origin.x),
+          _mm256_set1_ps(r.box.origin.y),
+          _mm256_set1_ps(r.box.origin.z),
+          _mm256_set1_ps(r.box.inverse.x),
+          _mm256_set1_ps(r.box.inverse.y),
+          _mm256_set1_ps(r.box.inverse.z),
+          _mm256_set1_epi32(int(r.octant_inverse)),
+          near(0),
+          near(1),
+          near(2),
+          far(0),
+          far(1),
+          far(2)};
+}
+
+// What the CPU's traversal carries where AVX2 is compiled: the ray as every node read takes it
+// and its eight lanes, which only the eight-wide node reads below use.
+struct WideRayAvx2 : WideRay {
+  EightLaneRay lanes;
+};
+
 // [listing:node_avx2]
 // Where the CPU has AVX2 (RT_CPU_ARCH=native on such a machine), the whole node test of an
 // eight-wide node is written in its vector instructions. The compiler vectorises the loop
@@ -254,8 +261,8 @@ RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const CompressedNode& n, con
 // (about 25 instructions where one movemask does), and it reads the children's meta bytes one
 // entered child at a time, a loop of unpredictable length. Here:
 //   - The near and far planes of each axis are read at byte offsets the ray's signs chose
-//     once (make_wide_ray), so a node costs six loads and no selects: per child the very
-//     operations of the loop.
+//     once (make_eight_lane_ray), so a node costs six loads and no selects: per child the
+//     very operations of the loop.
 //   - _mm256_max_ps(a, acc) is a > acc ? a : acc, max_onto exactly (and min likewise), so
 //     NaN is ignored as before.
 //   - The eight meta bytes become eight hit-mask contributions at once (meta_bits, lane by
@@ -349,6 +356,13 @@ struct NodeHits {
 };
 
 template <class Node>
+RT_INLINE_ON_CPU RT_HD inline NodeHits node_hits(const Node& n, unsigned bits) {
+  return {(bits & 0xff000000u) | n.imask, bits & 0x00ffffffu, n.child_base, n.triangle_base};
+}
+
+// A node read with no vector instructions written out, whatever the compile flags: the GPU's,
+// the CPU's where it has no AVX2 form (below), and the reference that form is tested against.
+template <class Node>
 RT_INLINE_ON_CPU RT_HD inline NodeHits intersect_node(const Node& n, const WideRay& r,
                                                       float tmin, float tmax) {
   unsigned bits = 0;
@@ -358,18 +372,35 @@ RT_INLINE_ON_CPU RT_HD inline NodeHits intersect_node(const Node& n, const WideR
   for (int c = 0; c < Node::k_width; ++c)
     bits |= (entered >> c) & 1u ? meta_bits(n.meta[c], r.octant_inverse) : 0u;
 #else
-#if defined(__AVX2__)
-  if constexpr (Node::k_width == 8) {
-    bits = node_bits_avx2(n, r.lanes, tmin, tmax);
-  } else
+  // the children entered only: a few of the eight, one at a time
+  const unsigned entered = enter_children_cpu(n, r, tmin, tmax);
+  for (unsigned left = entered; left != 0; left &= left - 1)
+    bits |= meta_bits(n.meta[std::countr_zero(left)], r.octant_inverse);
 #endif
-  { // the children entered only: a few of the eight, one at a time
-    const unsigned entered = enter_children_cpu(n, r, tmin, tmax);
-    for (unsigned left = entered; left != 0; left &= left - 1)
-      bits |= meta_bits(n.meta[std::countr_zero(left)], r.octant_inverse);
-  }
+  return node_hits(n, bits);
+}
+
+#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
+// With the ray's eight lanes, an eight-wide node is read in AVX2, a narrower one as above.
+template <class Node>
+RT_INLINE_ON_CPU inline NodeHits intersect_node(const Node& n, const WideRayAvx2& r, float tmin,
+                                                float tmax) {
+  if constexpr (Node::k_width == 8)
+    return node_hits(n, node_bits_avx2(n, r.lanes, tmin, tmax));
+  else
+    return intersect_node(n, static_cast<const WideRay&>(r), tmin, tmax);
+}
 #endif
-  return {(bits & 0xff000000u) | n.imask, bits & 0x00ffffffu, n.child_base, n.triangle_base};
+
+// The ray as the traversal carries it: a WideRay, with its eight lanes where the CPU code is
+// compiled with AVX2 (which intersect_node above then takes).
+RT_INLINE_ON_CPU RT_HD inline auto make_traversal_ray(const RayF& ray) {
+  const WideRay r = make_wide_ray(ray);
+#if !defined(__CUDA_ARCH__) && defined(__AVX2__)
+  return WideRayAvx2{r, make_eight_lane_ray(r)};
+#else
+  return r;
+#endif
 }
 
 RT_HD inline int highest_bit(unsigned x) {
@@ -513,21 +544,18 @@ intersect_eight(const float* columns, int stride, int k,
   return {t, v_edge, w_edge, inverse_det, unsigned(_mm256_movemask_ps(hit))};
 }
 
+// test_triangles' loop over the same bits, eight triangles per step from the tree's columns
+// (which it must have), for a ray whose frame has the axes X, Y, Z.
 template <Query kQuery, class Tree, int X, int Y, int Z>
 RT_INLINE_ON_CPU inline bool
-test_triangles(const Tree& tree, int base, unsigned bits, RayF& ray, TraceHit& hit,
-               ch07::NoCounters& counters,
-               FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>& test) {
-  if (tree.columns == nullptr) // a tree without columns: the scalar loop
-    return test_triangles<kQuery, Tree, ch07::NoCounters,
-                          FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>>(tree, base, bits, ray,
-                                                                          hit, counters, test);
+test_triangles_avx2(const Tree& tree, int base, unsigned bits, RayF& ray, TraceHit& hit,
+                    const ch04::WatertightRay<float>& frame, ch04::FixedAxes<X, Y, Z>) {
   for (unsigned left = bits; left != 0;) {
     const int first = lowest_bit(left) & ~7; // triangles first .. first + 7
     const unsigned lanes = (left >> first) & 0xffu;
     left &= ~(0xffu << first);
-    const EightTriangleHits e = intersect_eight<X, Y, Z>(tree.columns, tree.column_stride,
-                                                         base + first, test.frame, ray);
+    const EightTriangleHits e =
+        intersect_eight<X, Y, Z>(tree.columns, tree.column_stride, base + first, frame, ray);
     const unsigned found = e.hit & lanes;
     if (found == 0) continue;
     alignas(32) float t[8];
@@ -549,6 +577,28 @@ test_triangles(const Tree& tree, int base, unsigned bits, RayF& ray, TraceHit& h
   return false;
 }
 // [/listing:triangles_avx2]
+#endif
+
+// The triangle test a node read's triangles get in trace_wide: test_triangles, the scalar
+// loop; or, on a CPU with AVX2 and FMA, in a traversal with the axes fixed and no counters
+// through a tree with columns, test_triangles_avx2.
+template <Query kQuery, class Tree, class C, class Test>
+RT_INLINE_ON_CPU RT_HD inline bool test_node_triangles(const Tree& tree, int base,
+                                                       unsigned bits, RayF& ray, TraceHit& hit,
+                                                       C& counters, Test& intersect) {
+  return test_triangles<kQuery>(tree, base, bits, ray, hit, counters, intersect);
+}
+#if !defined(__CUDA_ARCH__) && defined(__AVX2__) && defined(__FMA__)
+template <Query kQuery, class Tree, int X, int Y, int Z>
+RT_INLINE_ON_CPU inline bool
+test_node_triangles(const Tree& tree, int base, unsigned bits, RayF& ray, TraceHit& hit,
+                    ch07::NoCounters& counters,
+                    FramedWatertightTest<ch04::FixedAxes<X, Y, Z>>& test) {
+  if (tree.columns == nullptr)
+    return test_triangles<kQuery>(tree, base, bits, ray, hit, counters, test);
+  return test_triangles_avx2<kQuery>(tree, base, bits, ray, hit, test.frame,
+                                     ch04::FixedAxes<X, Y, Z>{});
+}
 #endif
 
 // [listing:local_stack]
@@ -578,7 +628,7 @@ template <Query kQuery, class Stack = LocalStack, class Tree, class C, class Tes
 RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters, Test intersect) {
   TraceHit hit;
   if (tree.node_count == 0 || !ch07::traceable(ray)) return hit;
-  const WideRay r = make_wide_ray(ray);
+  const auto r = make_traversal_ray(ray);
   Stack stack;
   int stack_size = 0;
   NodeGroup group{0, (1u << (24 + r.octant_inverse)) | 1u};
@@ -598,8 +648,8 @@ RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters, Test interse
     counters.node();
     const NodeHits h = intersect_node(tree.node(node), r, ray.tmin, ray.tmax);
     group = {h.child_base, h.children};
-    if (test_triangles<kQuery>(tree, h.triangle_base, h.triangles, ray, hit, counters,
-                               intersect))
+    if (test_node_triangles<kQuery>(tree, h.triangle_base, h.triangles, ray, hit, counters,
+                                    intersect))
       return hit; // an any-hit query is answered
   }
 }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "rt_catch.h"
+#include "rt_skip.h"
 
 #include "adversarial_rays.h"
 #include "bvh_build.h"
@@ -52,6 +53,48 @@ int against_chapter07(const Tree& tree, const ch07::Bvh& bvh, const std::vector<
   return mismatches;
 }
 
+// Eight boxes on a coarse grid (shared faces, flat boxes) and a ray that may lie on their
+// planes, with zero and denormal direction components: the child test's stiff cases.
+struct ChildCase {
+  WideNode<8> node{};
+  RayF ray;
+};
+
+ChildCase random_child_case(std::mt19937& rng) {
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> pick(0, 9);
+  const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::denorm_min()};
+  ChildCase k;
+  WideNode<8>& node = k.node;
+  for (int c = 0; c < 8; ++c) {
+    const float a = std::round(unit(rng) * 4.0f) * 0.5f,
+                b = std::round(unit(rng) * 4.0f) * 0.5f;
+    node.lo_x[c] = std::min(a, b);
+    node.hi_x[c] = std::max(a, b);
+    node.lo_y[c] = std::round(unit(rng) * 2.0f) * 0.5f;
+    node.hi_y[c] = node.lo_y[c] + std::round(std::abs(unit(rng)) * 2.0f) * 0.5f;
+    node.lo_z[c] = unit(rng);
+    node.hi_z[c] = node.lo_z[c] + std::abs(unit(rng));
+  }
+  // From a point on the coarse grid towards one of the boxes, or anywhere.
+  const Vec3f o{std::round(unit(rng) * 6.0f) * 0.5f, std::round(unit(rng) * 6.0f) * 0.5f,
+                unit(rng) * 3.0f};
+  const int aim = pick(rng) % 8;
+  const Vec3f centre{0.5f * (node.lo_x[aim] + node.hi_x[aim]),
+                     0.5f * (node.lo_y[aim] + node.hi_y[aim]),
+                     0.5f * (node.lo_z[aim] + node.hi_z[aim])};
+  Vec3f d = pick(rng) < 7 ? centre - o : Vec3f{unit(rng), unit(rng), unit(rng)};
+  if (pick(rng) < 3) d.x = special[pick(rng) % 5];
+  if (pick(rng) < 3) d.y = special[pick(rng) % 5];
+  if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) d.z = 1.0f;
+  k.ray = RayF{o, d, 0.0f, pick(rng) < 2 ? 1.5f : k_inf};
+  // Every byte is a meta byte to meta_bits, so random ones give the bits of all kinds of
+  // children and empty slots.
+  for (int c = 0; c < 8; ++c) node.meta[c] = static_cast<std::uint8_t>(rng());
+  node.imask = static_cast<std::uint8_t>(rng());
+  return k;
+}
+
 } // namespace
 
 TEST_CASE("wide trees give brute force's and chapter 07's hits on random scenes", "[ch09]") {
@@ -85,50 +128,23 @@ TEST_CASE("far from the origin the wide trees still agree with brute force", "[c
   }
 }
 
-TEST_CASE("the child test, and the CPU's vector forms of it, decide as chapter 07's "
-          "enter_box, box by box",
+TEST_CASE("the child test, and the CPU's form of it, decide as chapter 07's enter_box, box by "
+          "box",
           "[ch09]") {
   std::mt19937 rng(5);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  std::uniform_int_distribution<int> pick(0, 9);
-  const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::denorm_min()};
   int tested = 0, entered = 0;
   for (int trial = 0; trial < 4000; ++trial) {
-    // Eight boxes on a coarse grid (shared faces, flat boxes) and a ray that may lie on them.
-    WideNode<8> node{};
-    for (int c = 0; c < 8; ++c) {
-      const float a = std::round(unit(rng) * 4.0f) * 0.5f,
-                  b = std::round(unit(rng) * 4.0f) * 0.5f;
-      node.lo_x[c] = std::min(a, b);
-      node.hi_x[c] = std::max(a, b);
-      node.lo_y[c] = std::round(unit(rng) * 2.0f) * 0.5f;
-      node.hi_y[c] = node.lo_y[c] + std::round(std::abs(unit(rng)) * 2.0f) * 0.5f;
-      node.lo_z[c] = unit(rng);
-      node.hi_z[c] = node.lo_z[c] + std::abs(unit(rng));
-    }
-    // From a point on the coarse grid towards one of the boxes, or anywhere.
-    const Vec3f o{std::round(unit(rng) * 6.0f) * 0.5f, std::round(unit(rng) * 6.0f) * 0.5f,
-                  unit(rng) * 3.0f};
-    const int aim = pick(rng) % 8;
-    const Vec3f centre{0.5f * (node.lo_x[aim] + node.hi_x[aim]),
-                       0.5f * (node.lo_y[aim] + node.hi_y[aim]),
-                       0.5f * (node.lo_z[aim] + node.hi_z[aim])};
-    Vec3f d = pick(rng) < 7 ? centre - o : Vec3f{unit(rng), unit(rng), unit(rng)};
-    if (pick(rng) < 3) d.x = special[pick(rng) % 5];
-    if (pick(rng) < 3) d.y = special[pick(rng) % 5];
-    if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) d.z = 1.0f;
-    const RayF ray{o, d, 0.0f, pick(rng) < 2 ? 1.5f : k_inf};
+    const ChildCase k = random_child_case(rng);
+    const WideNode<8>& node = k.node;
+    const RayF& ray = k.ray;
     const WideRay r = make_wide_ray(ray);
     const unsigned mask = enter_children(slabs_of(node, r), r.box, ray.tmin, ray.tmax);
     CHECK(enter_children_cpu(node, r, ray.tmin, ray.tmax) == mask);
-    // The whole node read (with AVX2, its vector form): every byte is a meta byte to
-    // meta_bits, so random ones check the bits of all kinds of children and empty slots.
+    // The whole node read (the scalar one: a WideRay has no lanes): the meta bits of the
+    // children entered.
     std::uint32_t bits_expected = 0;
-    for (int c = 0; c < 8; ++c) {
-      node.meta[c] = static_cast<std::uint8_t>(rng());
+    for (int c = 0; c < 8; ++c)
       if ((mask >> c) & 1u) bits_expected |= meta_bits(node.meta[c], r.octant_inverse);
-    }
-    node.imask = static_cast<std::uint8_t>(rng());
     const NodeHits h = intersect_node(node, r, ray.tmin, ray.tmax);
     CHECK(h.children == ((bits_expected & 0xff000000u) | node.imask));
     CHECK(h.triangles == (bits_expected & 0x00ffffffu));
@@ -144,6 +160,67 @@ TEST_CASE("the child test, and the CPU's vector forms of it, decide as chapter 0
   }
   CHECK(tested == 32000);
   CHECK(entered > 3000); // the boxes are entered often enough to mean something
+}
+
+TEST_CASE("the CPU's AVX2 node reads give the scalar node read's hits bit for bit", "[ch09]") {
+#if defined(__AVX2__)
+  // intersect_node with the ray's eight lanes (node_bits_avx2) against intersect_node with
+  // the WideRay alone, which has no vector code whatever the compile flags: the float nodes
+  // and rays of the test above, and the same boxes in compressed nodes.
+  const auto same_node_hits = [](const NodeHits& a, const NodeHits& b) {
+    return a.children == b.children && a.triangles == b.triangles &&
+           a.child_base == b.child_base && a.triangle_base == b.triangle_base;
+  };
+  std::mt19937 rng(6);
+  int compared = 0, entered_float = 0, entered_compressed = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const ChildCase k = random_child_case(rng);
+    const RayF& ray = k.ray;
+    const WideRay r = make_wide_ray(ray);
+    const WideRayAvx2 lanes{r, make_eight_lane_ray(r)};
+    const NodeHits scalar = intersect_node(k.node, r, ray.tmin, ray.tmax);
+    CAPTURE(trial);
+    CHECK(same_node_hits(intersect_node(k.node, lanes, ray.tmin, ray.tmax), scalar));
+    // The same boxes on a grid of 1/32 or 1/16 (the grid's corner below them all), each
+    // plane rounded outward and then moved out by up to one more step.
+    CompressedNode compressed{};
+    const float corner[3] = {-2.0f, -1.0f, -1.0f};
+    for (int axis = 0; axis < 3; ++axis) {
+      compressed.origin[axis] = corner[axis];
+      compressed.exponent[axis] = static_cast<std::uint8_t>(127 - 5 + rng() % 2);
+    }
+    const auto on_grid = [&](float x, int axis, bool up) {
+      const float steps = (x - corner[axis]) / grid_step(compressed.exponent[axis]);
+      const float q =
+          up ? std::ceil(steps) + float(rng() % 2) : std::floor(steps) - float(rng() % 2);
+      return static_cast<std::uint8_t>(std::clamp(q, 0.0f, 255.0f));
+    };
+    for (int c = 0; c < 8; ++c) {
+      compressed.q_lo_x[c] = on_grid(k.node.lo_x[c], 0, false);
+      compressed.q_lo_y[c] = on_grid(k.node.lo_y[c], 1, false);
+      compressed.q_lo_z[c] = on_grid(k.node.lo_z[c], 2, false);
+      compressed.q_hi_x[c] = on_grid(k.node.hi_x[c], 0, true);
+      compressed.q_hi_y[c] = on_grid(k.node.hi_y[c], 1, true);
+      compressed.q_hi_z[c] = on_grid(k.node.hi_z[c], 2, true);
+      compressed.meta[c] = k.node.meta[c];
+    }
+    compressed.imask = k.node.imask;
+    compressed.child_base = static_cast<int>(rng() % 1000);
+    compressed.triangle_base = static_cast<int>(rng() % 1000);
+    const NodeHits compressed_scalar = intersect_node(compressed, r, ray.tmin, ray.tmax);
+    CHECK(same_node_hits(intersect_node(compressed, lanes, ray.tmin, ray.tmax),
+                         compressed_scalar));
+    compared += 2;
+    entered_float += std::popcount(enter_children_cpu(k.node, r, ray.tmin, ray.tmax));
+    entered_compressed += std::popcount(enter_children_cpu(compressed, r, ray.tmin, ray.tmax));
+  }
+  CHECK(compared == 8000);
+  // Children entered often enough to mean something (of 32 000 each).
+  CHECK(entered_float > 3000);
+  CHECK(entered_compressed > 3000);
+#else
+  RT_SKIP("this build's CPU code has no AVX2 (RT_CPU_ARCH), so it has no vector node read");
+#endif
 }
 
 TEST_CASE("no ray leaks out of a closed mesh through a wide tree", "[ch09]") {
@@ -284,17 +361,19 @@ TEST_CASE("the batch functions give the traversal's hits on CPU threads", "[ch09
 
 TEST_CASE("the CPU's eight-at-once triangle test gives chapter 04's answers bit for bit",
           "[ch09]") {
-  // test_triangles with the axes fixed (on a machine with AVX2 and FMA, eight triangles per
-  // instruction from the tree's columns) against the scalar loop (chosen here by counting),
-  // on groups of up to 24 triangles around the one each ray hits: rays at the vertices and
-  // edges of closed meshes, at the origin and 1e5 away, so that neighbours tie at the same t
-  // and the rule "the first tested wins" is put to work.
+#if defined(__AVX2__) && defined(__FMA__)
+  // test_triangles_avx2 (eight triangles per instruction from the tree's columns) against
+  // test_triangles, the scalar loop, which has no vector code whatever the compile flags,
+  // both with the axes fixed, on groups of up to 24 triangles around the one each ray hits:
+  // rays at the vertices and edges of closed meshes, at the origin and 1e5 away, so that
+  // neighbours tie at the same t and the rule "the first tested wins" is put to work.
   std::mt19937 rng(31);
   int compared = 0, hits = 0, ties = 0;
   for (const ch04::LeakConfiguration& config : ch04::k_leak_configurations) {
     const Mesh mesh = config.make_mesh();
     const Wide8Bvh tree = pack_wide<8>(build_wide_layout(mesh, 8, Collapse::sah));
     const auto view = tree.view();
+    REQUIRE(view.columns != nullptr);
     const int count = static_cast<int>(mesh.triangles.size());
     std::vector<int> position(count); // a mesh triangle's place in the tree's order
     for (int k = 0; k < count; ++k) position[view.triangle_id(k)] = k;
@@ -311,22 +390,21 @@ TEST_CASE("the CPU's eight-at-once triangle test gives chapter 04's answers bit 
       const ch04::WatertightRay<float> frame = ch04::watertight_ray(ray);
       ch04::with_fixed_axes(frame, [&]<class Axes>(Axes) {
         for (const Query query : {Query::closest, Query::any}) {
-          FramedWatertightTest<Axes> fast(frame), scalar(frame);
+          FramedWatertightTest<Axes> scalar(frame);
           RayF fast_ray = ray, scalar_ray = ray;
           TraceHit fast_hit, scalar_hit;
           ch07::NoCounters none;
-          ch07::Counters counted; // a counting test takes the scalar loop
           const bool fast_done = query == Query::closest
-                                     ? test_triangles<Query::closest>(
-                                           view, base, bits, fast_ray, fast_hit, none, fast)
-                                     : test_triangles<Query::any>(view, base, bits, fast_ray,
-                                                                  fast_hit, none, fast);
+                                     ? test_triangles_avx2<Query::closest>(
+                                           view, base, bits, fast_ray, fast_hit, frame, Axes{})
+                                     : test_triangles_avx2<Query::any>(
+                                           view, base, bits, fast_ray, fast_hit, frame, Axes{});
           const bool scalar_done =
               query == Query::closest
                   ? test_triangles<Query::closest>(view, base, bits, scalar_ray, scalar_hit,
-                                                   counted, scalar)
-                  : test_triangles<Query::any>(view, base, bits, scalar_ray, scalar_hit,
-                                               counted, scalar);
+                                                   none, scalar)
+                  : test_triangles<Query::any>(view, base, bits, scalar_ray, scalar_hit, none,
+                                               scalar);
           CAPTURE(config.name, base, bits);
           CHECK(fast_done == scalar_done);
           CHECK(fast_hit.triangle == scalar_hit.triangle);
@@ -349,6 +427,10 @@ TEST_CASE("the CPU's eight-at-once triangle test gives chapter 04's answers bit 
   CHECK(compared > 10000);
   CHECK(hits > compared / 2);
   CHECK(ties > 50); // groups with two triangles hit at the same, nearest t (118 here)
+#else
+  RT_SKIP("this build's CPU code has no AVX2 and FMA (RT_CPU_ARCH), so it has no vector "
+          "triangle test");
+#endif
 }
 
 TEST_CASE("the runner accepts every tracer of the chapter on the CPU", "[ch09]") {
