@@ -2,13 +2,16 @@
 // any OBJ file with --scene, its MTL's Kd and Ke as albedo and emission) with next-event
 // estimation and MIS, and reports each variant's time per sample: the megakernel specialised
 // on the scene's features, the all-features megakernel, the persistent threads (the default for
-// the image and the window: the GPU's fastest) and the wavefront stages. Other modes:
+// the image and the window: the GPU's fastest) and the wavefront stages. --output x.png is the
+// tone-mapped picture, x.pfm and x.exr the mean radiance itself. Other modes:
 //   --window          progressive display; moving the camera starts the sums again
 //   --convergence     error against run time at 1, 2, 4, ... --spp samples per pixel, against
 //                     a float64 reference of --reference-spp samples, for every strategy
-#include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 #include "animation.h"
 #include "camera_cli.h"
@@ -18,18 +21,20 @@
 #include "protocol.h"
 #include "rt/image.h"
 #include "rt/program_output.h"
-#include "shaded_scene.h"
 
 namespace {
 
 using namespace rt;
 using namespace rt::ch11;
 
+// --detail's bound with --moving: chapter 10's k_max_moving_detail (animation.h), the scene
+// within the 10 million triangles a model may have.
+constexpr int k_max_moving_detail_of_ch10 = 3161;
+
 struct ChapterOptions : ch03::ProgramOptions {
   std::string scene_path;
   int spp = 64;
   double seconds = 0.0; // > 0: as many samples as fit in this time, instead of --spp
-  std::string pfm;      // the linear radiance, unless empty
   bool convergence = false;
   int reference_spp = 1024;
   RenderSettings settings{.variant = PathVariant::persistent}; // the GPU's fastest
@@ -39,13 +44,42 @@ struct ChapterOptions : ch03::ProgramOptions {
   double sun_irradiance = 3.0;
   bool moving = false; // chapter 10's moving scene, its tree built again every frame
   int detail = 316;    // its torus's segments around
+  bool up_given = false;
 };
 
-// The scene, its sky and sun, and the camera: the room's own view, or chapter 06's framing.
+void warn(const std::string& what) {
+  std::cout.flush(); // the warning lands between the lines it belongs between
+  std::cerr << "warning: " << what << std::endl;
+}
+
+// --sun's direction as a unit vector. Scaled by its largest component first, in double, so
+// that 1e300,1,0 (whose squares overflow) and 1e-300,1e-300,0 (whose squares are zero) are
+// directions like any other; zero and numbers that are not finite are refused.
+Vec3f sun_direction(Vec3d v) {
+  const bool finite = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  const double largest = finite ? max_component(elementwise_abs(v)) : 0.0;
+  if (!(largest > 0.0)) {
+    std::ostringstream text;
+    text << "--sun " << v.x << ',' << v.y << ',' << v.z
+         << ": a direction needs three finite numbers, not all zero";
+    throw UsageError(text.str());
+  }
+  return normalize(v / largest).as<float>();
+}
+
+// The course's Cornell room, however its path is written: it is seen from its own camera.
+bool is_course_room(const std::string& path) {
+  std::error_code error;
+  return std::filesystem::equivalent(path, RT_ASSETS_DIR "/cornell_room.obj.gz", error);
+}
+
+// The scene, its sky and sun, and the camera: the room's own view, or the framing from
+// outside (frame_from_outside).
 PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   long long defaulted = 0;
   PathScene scene = options.moving ? moving_path_scene(0.0, options.detail)
                                    : load_path_scene(options.scene_path, &defaulted);
+  for (const std::string& warning : scene.warnings) warn(warning);
   if (defaulted > 0)
     scene.description += ", " + group_digits(defaulted) +
                          (defaulted == 1 ? " triangle" : " triangles") +
@@ -54,17 +88,23 @@ PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   const float sky = options.sky >= 0.0 ? float(options.sky) : scene.lights.power > 0 ? 0 : 1;
   e.sky = {sky, sky, sky};
   if (options.sun) {
-    e.sun_direction = normalize(options.sun->as<float>());
+    e.sun_direction = sun_direction(*options.sun);
     const float s = float(options.sun_irradiance);
     e.sun_irradiance = {s, s * 0.95f, s * 0.85f};
   }
+  // Refused before the work: a scene that nothing lights renders black, whatever it holds.
+  if (features_used(scene) == 0)
+    throw UsageError(std::string("nothing lights the scene: ") +
+                     (options.moving ? "chapter 10's moving scene" : options.scene_path) +
+                     " has no emitters (MTL Ke), --sky is 0 and there is no sun (--sun with "
+                     "an irradiance above 0); every pixel would be black");
   // The room has its own view; the benchmark's interiors (conference, sponza) the protocol's
   // view from inside, so that the figures compare with chapters 07 to 10; other models are
   // framed from outside.
-  const bool room = options.scene_path == RT_ASSETS_DIR "/cornell_room.obj.gz";
+  const bool room = !options.moving && is_course_room(options.scene_path);
   const std::optional<ch07::ProtocolView> interior = ch07::interior_view(options.scene_path);
-  CameraSpec framed = ch06::frame_bounds_down_z(ch06::bounds_of(scene.mesh), camera.fov_degrees,
-                                                options.common.extent());
+  CameraSpec framed =
+      frame_from_outside(scene.mesh, camera.fov_degrees, options.common.extent());
   if (room) framed = ch11::cornell_camera();
   if (options.moving) framed = ch10::moving_scene_camera();
   if (interior)
@@ -73,24 +113,23 @@ PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
               .fov_degrees = interior->vfov_degrees};
   if (!options.eye_given) camera.eye = framed.eye;
   if (!options.target_given) camera.target = framed.target;
+  if (!options.eye_given && !options.target_given && !options.up_given) camera.up = framed.up;
   if ((room || options.moving || interior.has_value()) && !options.fov_given)
     camera.fov_degrees = framed.fov_degrees;
   return scene;
 }
 
-// --spp samples, or as many as --seconds allows, into the renderer's sums.
-void render_final(PathRenderer& renderer, const ChapterOptions& options) {
-  if (options.seconds <= 0.0) return renderer.add_samples(options.settings, options.spp);
-  const auto end =
-      std::chrono::steady_clock::now() + std::chrono::duration<double>(options.seconds);
-  do {
-    renderer.add_samples(options.settings, 1);
-    renderer.synchronize();
-  } while (std::chrono::steady_clock::now() < end);
+// One line when the whole image came back black: no path found any light.
+void warn_if_black(const PathRenderer& renderer) {
+  for (const float4& s : renderer.sums())
+    if (s.x != 0.0f || s.y != 0.0f || s.z != 0.0f) return;
+  warn("every pixel is black: no path reached an emitter, the sky or the sun; is the camera "
+       "outside a closed model (--eye, --target), or every light shut away from what it sees?");
 }
 
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
+  if (options.sun) sun_direction(*options.sun); // refused before the scene is loaded
   const Backend backend = resolve_backend(options.common.backend, std::cout);
   CameraSpec camera = options.camera;
   const PathScene scene = load_scene(options, camera);
@@ -110,6 +149,27 @@ int run(ChapterOptions& options) {
     if (!renderer)
       renderer.emplace(scene, b, options.moving ? TreeBuild::lbvh : TreeBuild::sah);
     return *renderer;
+  };
+  // The headless image's samples, for the PNG or the linear file.
+  const auto render_image = [&]() -> PathRenderer& {
+    PathRenderer& r = renderer_for(backend);
+    if (options.moving) // the animation's last frame
+      r.move_vertices(moving_path_scene((moving_frame_count(options.common.frames) - 1) *
+                                            ch10::k_seconds_per_frame,
+                                        options.detail)
+                          .mesh.vertices);
+    r.restart(camera, options.common.extent());
+    const SamplesTaken taken =
+        add_image_samples(r, options.settings, options.spp, options.seconds);
+    if (options.seconds > 0.0) {
+      const std::string text = group_digits(taken.samples) + " per pixel in " +
+                               format_fixed(taken.seconds, 1) + " s (--seconds)";
+      std::cout << "rendered " << text << "\n";
+      report.add_context("image samples", text);
+    }
+    if (r.non_finite() > 0) std::cout << r.non_finite() << " NaN/Inf samples dropped\n";
+    warn_if_black(r);
+    return r;
   };
   int frame = 0; // the moving scene's, in the window
   const ch03::ProgramParts parts{
@@ -153,25 +213,46 @@ int run(ChapterOptions& options) {
               add_kernel_rows(renderer_for(backend), options.settings.strategy, camera,
                               options.common.extent(), options.common.frames, rows);
           },
-      .image =
+      .image = [&] { return render_image().image(float(options.exposure)); },
+      .linear_image =
           [&] {
-            PathRenderer& r = renderer_for(backend);
-            if (options.moving) // the animation's last frame
-              r.move_vertices(
-                  moving_path_scene((moving_frame_count(options.common.frames) - 1) *
-                                        ch10::k_seconds_per_frame,
-                                    options.detail)
-                      .mesh.vertices);
-            r.restart(camera, options.common.extent());
-            render_final(r, options);
-            if (r.non_finite() > 0) std::cout << r.non_finite() << " NaN/Inf samples dropped\n";
-            if (!options.pfm.empty())
-              write_pfm(options.pfm, r.extent().width, r.extent().height, r.mean_radiance());
-            return r.image(float(options.exposure));
+            const PathRenderer& r = render_image();
+            return LinearImage{r.extent().width, r.extent().height, r.mean_radiance()};
           },
-      .image_note = "tone-mapped mean of the samples",
+      .image_note = "mean of the samples",
   };
   return ch03::run_window_or_headless(options, backend, parts, report);
+}
+
+// Flags the run would not read, refused in one line rather than ignored.
+void refuse_ignored_flags(const CLI::App& app, const ChapterOptions& options) {
+  const auto given = [&](const char* flag) { return app.count(flag) > 0; };
+  if (options.moving && (given("--scene") || options.convergence))
+    throw UsageError("--moving renders chapter 10's scene: not with --scene or --convergence");
+  if (!options.moving && given("--detail")) throw UsageError("--detail goes with --moving");
+  if (options.convergence)
+    for (const char* flag : {"--window", "--variant", "--strategy", "--output", "--seconds",
+                             "--image-only", "--exposure", "--frames"})
+      if (given(flag))
+        throw UsageError(std::string("--convergence measures every variant and strategy "
+                                     "against a reference and writes no image: not with ") +
+                         flag);
+  if (!options.convergence && given("--reference-spp"))
+    throw UsageError("--reference-spp goes with --convergence");
+  if (given("--spp") && given("--seconds"))
+    throw UsageError("--spp and --seconds both say how long to render: give one");
+  if (given("--sun-irradiance") && !options.sun)
+    throw UsageError("--sun-irradiance is the sun's: give --sun too");
+  const std::string& output = options.common.output;
+  if (given("--exposure") && !options.display.window &&
+      (output.empty() || is_linear_image_path(output)))
+    throw UsageError("--exposure scales the tone-mapped picture (a .png or the window); " +
+                     (output.empty() ? std::string("there is no --output")
+                                     : output + " holds the radiance itself"));
+  if (given("--output") && output.empty() && options.common.json.empty() &&
+      (options.display.headless || options.image_only))
+    throw UsageError("--output \"\" and no --json: the run would write nothing (leave out "
+                     "--output for the image, or give --json for the report)");
 }
 
 } // namespace
@@ -185,19 +266,21 @@ int main(int argc, char** argv) {
   options.common.output = "ch11_path_tracing.png";
   options.scene_path = RT_ASSETS_DIR "/cornell_room.obj.gz";
   ch03::add_program_options(app, options);
-  app.add_option("--scene", options.scene_path, "OBJ file (its MTL's Kd: albedo, Ke: emission)")
+  app.add_option("--scene", options.scene_path,
+                 "OBJ file (its MTL's Kd: albedo in [0, 1], Ke: emission up to 1e6)")
       ->check(CLI::ExistingFile);
   app.add_option("--spp", options.spp,
                  "Samples per pixel of the image (--convergence: the most)")
-      ->check(CLI::Range(1, 1 << 20))
+      ->check(CLI::Range(1, k_max_samples_per_pixel))
       ->capture_default_str();
-  app.add_option("--seconds", options.seconds, "Render for this long instead of --spp")
+  app.add_option("--seconds", options.seconds,
+                 "Render for this long instead of --spp (at most " +
+                     std::to_string(k_max_samples_per_pixel) + " samples per pixel)")
       ->check(finite_range(0.001, 86400.0));
-  app.add_option("--pfm", options.pfm, "Write the linear mean radiance as PFM");
   app.add_flag("--convergence", options.convergence,
                "Error against run time of every strategy, against a float64 reference");
   app.add_option("--reference-spp", options.reference_spp, "Samples of the reference")
-      ->check(CLI::Range(1, 1 << 20))
+      ->check(CLI::Range(1, k_max_samples_per_pixel))
       ->capture_default_str();
   app.add_option_function<std::string>(
          "--variant",
@@ -209,22 +292,23 @@ int main(int argc, char** argv) {
          [&](const std::string& t) { options.settings.strategy = parse_strategy(t); },
          "Direct light by bsdf (bounces only), light (shadow rays only) or mis (both)")
       ->default_str("mis");
-  app.add_option("--exposure", options.exposure, "Radiance scale before the tone curve")
+  app.add_option("--exposure", options.exposure,
+                 "Radiance scale before the tone curve (the PNG and the window)")
       ->check(finite_range(1e-6, 1e6))
       ->capture_default_str();
   app.add_option("--sky", options.sky,
                  "Grey sky radiance (default: 1 without emitters, else 0)")
-      ->check(finite_range(0.0, 1e6));
+      ->check(finite_range(0.0, k_max_light));
   app.add_option_function<std::vector<double>>(
          "--sun",
          [&](const std::vector<double>& v) {
            options.sun = Vec3d{v[0], v[1], v[2]};
          },
-         "Direction towards a sun light, x,y,z")
+         "Direction towards a sun light, x,y,z (finite, not all zero)")
       ->delimiter(',')
       ->expected(3);
   app.add_option("--sun-irradiance", options.sun_irradiance, "The sun's irradiance")
-      ->check(finite_range(0.0, 1e6))
+      ->check(finite_range(0.0, k_max_light))
       ->capture_default_str();
   app.add_flag(
       "--moving", options.moving,
@@ -232,16 +316,17 @@ int main(int argc, char** argv) {
       "every frame (chapter 10's LBVH and collapse) and the sums started again; "
       "headless, --frames frames of it, the image the last one's");
   app.add_option("--detail", options.detail,
-                 "With --moving: the torus's segments around (detail^2 triangles)")
-      ->check(CLI::Range(8, 4096))
+                 "With --moving: the torus's segments around (detail^2 triangles, at most " +
+                     std::to_string(k_max_moving_detail_of_ch10) + ": 10 million triangles)")
+      ->check(CLI::Range(8, k_max_moving_detail_of_ch10))
       ->capture_default_str();
   ch03::add_image_only_option(app, options);
+  add_help_paragraph(app, "Images: --output x.png writes the tone-mapped picture (--exposure "
+                          "scales it); x.pfm and x.exr the mean radiance of the samples, "
+                          "linear 32-bit floats, neither scaled nor clipped.");
   return ch03::run_program_main(app, argc, argv, options, [&] {
-    if (options.moving && (app.count("--scene") > 0 || options.convergence))
-      throw UsageError(
-          "--moving renders chapter 10's scene: not with --scene or --convergence");
-    if (!options.moving && app.count("--detail") > 0)
-      throw UsageError("--detail goes with --moving");
+    options.up_given = app.count("--up") > 0;
+    refuse_ignored_flags(app, options);
     return run(options);
   });
 }

@@ -1,9 +1,12 @@
 // Chapter 11: the program's reports. See path_report.h.
 #include "path_report.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "animation.h"
+#include "rt/cpu_progress.h"
 #include "rt/program_output.h"
 #include "rt/timer.h"
 #include "wavefront.h"
@@ -74,10 +77,13 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
 }
 
 void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int detail,
-                     const CameraSpec& camera, Extent extent, int frames, Report& report) {
+                     const CameraSpec& camera, Extent extent, int frames, Report& report,
+                     std::ostream& progress, std::chrono::milliseconds period) {
   frames = moving_frame_count(frames);
   double tree_ms = 0.0, sample_ms = 0.0;
   renderer.restart(camera, extent);
+  const CpuWorkName name("moving scene");
+  CpuProgress line(frames, "frames", progress, period);
   for (int f = 0; f < frames; ++f) {
     const std::vector<Vec3f> moved = moving_path_scene(f * ch10::k_seconds_per_frame, detail)
                                          .mesh.vertices; // the host's reference
@@ -92,6 +98,7 @@ void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int
     sample_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count();
+    line.update(f + 1);
   }
   const double ms = (tree_ms + sample_ms) / frames;
   report.add_row({describe(settings) + ", moving: tree every frame",
@@ -107,6 +114,37 @@ void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int
                   {{"tree_ms", tree_ms / frames},
                    {"sample_ms", sample_ms / frames},
                    {"non_finite", double(renderer.non_finite())}}});
+}
+
+SamplesTaken add_image_samples(PathRenderer& renderer, const RenderSettings& settings, int spp,
+                               double seconds, std::ostream& progress,
+                               std::chrono::milliseconds period) {
+  const CpuWorkName name("rendering the image");
+  const int per_pass = static_cast<int>(std::clamp<long long>(
+      k_paths_per_pass / std::max<long long>(renderer.extent().pixel_count(), 1), 1,
+      k_max_samples_per_pixel));
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const int most = seconds > 0.0 ? k_max_samples_per_pixel : spp;
+  CpuProgress line(seconds > 0.0 ? static_cast<long long>(std::ceil(seconds)) : spp,
+                   seconds > 0.0 ? "s" : "samples", progress, period);
+  int done = 0;
+  while (done < most) {
+    const int pass = std::min(per_pass, most - done);
+    renderer.add_samples(settings, pass);
+    renderer.synchronize(); // the pass is done when the line says so
+    done += pass;
+    if (seconds > 0.0) {
+      const double so_far = elapsed();
+      line.update(static_cast<long long>(so_far));
+      if (so_far >= seconds) break;
+    } else {
+      line.update(done);
+    }
+  }
+  return {done, elapsed()};
 }
 
 Report convergence_report(const PathScene& scene, Backend backend, const CameraSpec& camera,

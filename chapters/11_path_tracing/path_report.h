@@ -3,6 +3,9 @@
 // strategy and variant against a float64 reference.
 #pragma once
 
+#include <chrono>
+#include <iostream>
+
 #include "convergence.h"
 #include "path_render.h"
 #include "rt/backend.h"
@@ -18,9 +21,35 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
 
 // --moving: `frames` frames of chapter 10's moving scene (60 for 0), each its vertices moved,
 // its tree built again on the backend and one sample per pixel by `settings`; the row gives the
-// mean wall time of the two parts.
+// mean wall time of the two parts. A progress line every `period` on `progress` counts the
+// frames ("moving scene: 37% (37000 of 100000 frames), 15 s").
 void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int detail,
-                     const CameraSpec& camera, Extent extent, int frames, Report& report);
+                     const CameraSpec& camera, Extent extent, int frames, Report& report,
+                     std::ostream& progress = std::cerr,
+                     std::chrono::milliseconds period = std::chrono::seconds(5));
+
+// The most samples per pixel an image takes (--spp, --reference-spp, --seconds): a pixel's
+// float sum counts its samples exactly up to 2^24, and its radiance keeps 1/16 of float's
+// precision at this count.
+inline constexpr int k_max_samples_per_pixel = 1 << 20;
+
+// The image's samples are added in passes of about this many paths, a fraction of a second
+// on the CPU, so that long work (a tiny image of a million samples per pixel, a long
+// --seconds) can say how far it has come between passes.
+inline constexpr long long k_paths_per_pass = 1 << 16;
+
+struct SamplesTaken {
+  int samples = 0;      // per pixel
+  double seconds = 0.0; // wall time, the backend's work waited for
+};
+
+// The image's samples: `spp` per pixel, or, when `seconds` is above 0, passes until that time
+// is up (at most k_max_samples_per_pixel). The sums are the same as from one add_samples call
+// of as many samples. A progress line every `period` on `progress` counts the samples, or
+// the seconds ("rendering the image: 37% (388000 of 1048576 samples), 15 s").
+SamplesTaken add_image_samples(PathRenderer& renderer, const RenderSettings& settings, int spp,
+                               double seconds, std::ostream& progress = std::cerr,
+                               std::chrono::milliseconds period = std::chrono::seconds(5));
 
 // The frames the moving scene is run for: `frames`, or 60 for 0.
 inline int moving_frame_count(int frames) { return frames > 0 ? frames : 60; }

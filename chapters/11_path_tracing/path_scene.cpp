@@ -3,25 +3,21 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <numbers>
 #include <sstream>
 
-#include <tiny_obj_loader.h>
-
 #include "animation.h"
-#include "gunzip.h"
 #include "obj_loader.h"
 #include "path_sampling.h"
 #include "rt/error.h"
+#include "rt/report.h"
+#include "shaded_scene.h"
 
 namespace rt::ch11 {
 namespace {
 
 constexpr PathMaterial k_default_material{{0.8f, 0.8f, 0.8f}, {0.0f, 0.0f, 0.0f}};
-constexpr float k_max_albedo = 0.99f;
 
 double triangle_area(const ch04::Mesh& mesh, int i) {
   const ch04::TriangleF t = mesh.triangle(i);
@@ -42,47 +38,41 @@ void check_emission(const PathMaterial& m, const std::string& name) {
                      std::to_string(std::min({e.x, e.y, e.z})));
 }
 
-// The bytes of a file, unpacked when it is gzip data (chapter 05's rule).
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  std::string text = bytes.str();
-  return ch05::is_gzip(text) ? ch05::gunzip(text, path, 1LL << 30) : text;
+std::string format_colour(Vec3d c) {
+  std::ostringstream text;
+  text << c.x << ' ' << c.y << ' ' << c.z;
+  return text.str();
 }
 
-// Every material of the MTL files the OBJ file's `mtllib` lines name, by name. Chapter 05's
-// loader reads the same files for the names alone; Kd and Ke are read here.
-std::map<std::string, PathMaterial> read_mtl_materials(const std::string& obj_path) {
-  const std::filesystem::path folder = std::filesystem::path(obj_path).parent_path();
-  std::istringstream lines(read_text(obj_path));
-  std::map<std::string, PathMaterial> by_name;
-  for (std::string line; std::getline(lines, line);) {
-    std::istringstream words(line);
-    std::string keyword, file;
-    if (!(words >> keyword) || keyword != "mtllib") continue;
-    while (words >> file) {
-      std::ifstream mtl(folder / file);
-      if (!mtl) continue; // a missing MTL file: its faces get the default material
-      std::map<std::string, int> index;
-      std::vector<tinyobj::material_t> materials;
-      std::string warnings, errors;
-      tinyobj::LoadMtl(&index, &materials, &mtl, &warnings, &errors);
-      for (const tinyobj::material_t& m : materials) {
-        const auto f = [](double v) { return static_cast<float>(v); };
-        const Vec3f kd{f(m.diffuse[0]), f(m.diffuse[1]), f(m.diffuse[2])};
-        const auto clamp_albedo = [](float v) {
-          return std::isfinite(v) ? std::clamp(v, 0.0f, k_max_albedo) : 0.0f;
-        };
-        PathMaterial material{{clamp_albedo(kd.x), clamp_albedo(kd.y), clamp_albedo(kd.z)},
-                              {f(m.emission[0]), f(m.emission[1]), f(m.emission[2])}};
-        check_emission(material, m.name);
-        by_name.emplace(m.name, material);
-      }
-    }
-  }
-  return by_name;
+bool is_finite(Vec3d c) {
+  return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);
+}
+
+// An MTL material as this chapter's material: Kd and Ke checked first, since MTL files come
+// from anywhere, and a value no surface or lamp can have would otherwise render as something
+// else without a word. `lowered` is set when a Kd in (k_max_albedo, 1] was lowered.
+PathMaterial path_material(const ch05::ObjMaterial& m, bool& lowered) {
+  const std::string where = m.file + ": material '" + m.name + "': ";
+  if (!m.unreadable.empty())
+    throw InputError(where + m.unreadable + ": not three finite numbers");
+  const Vec3d kd = m.diffuse, ke = m.emission; // tinyobjloader reads "0e999" as NaN
+  if (!is_finite(kd) || !is_finite(ke))
+    throw InputError(where + "Kd " + format_colour(kd) + ", Ke " + format_colour(ke) +
+                     ": not finite numbers");
+  if (!(min_component(kd) >= 0.0 && max_component(kd) <= 1.0))
+    throw InputError(
+        where + "Kd " + format_colour(kd) +
+        ": an albedo lies in [0, 1] (a surface reflects at most what it receives)");
+  if (!(min_component(ke) >= 0.0))
+    throw InputError(where + "negative emission (Ke) " + format_colour(ke));
+  if (!(max_component(ke) <= k_max_light))
+    throw InputError(where + "Ke " + format_colour(ke) +
+                     ": brighter than the brightest light this path tracer takes (" +
+                     format_colour(Vec3d{k_max_light, k_max_light, k_max_light}) + ")");
+  lowered = lowered || max_component(kd) > k_max_albedo;
+  const auto albedo = [](double v) { return std::min(static_cast<float>(v), k_max_albedo); };
+  return {{albedo(kd.x), albedo(kd.y), albedo(kd.z)},
+          {static_cast<float>(ke.x), static_cast<float>(ke.y), static_cast<float>(ke.z)}};
 }
 
 // A unit-free regular polygon (disc) in the plane y = height, facing down.
@@ -136,28 +126,54 @@ LightTable build_light_table(const PathScene& scene) {
 // [/listing:build_light_table]
 
 PathScene load_path_scene(const std::string& path, long long* defaulted) {
-  const ch05::ObjMesh obj = ch05::load_obj(path);
-  const std::map<std::string, PathMaterial> mtl = read_mtl_materials(path);
+  ch05::ObjMesh obj = ch05::load_obj(path);
   PathScene scene;
-  scene.mesh = obj.geometry;
-  scene.materials.push_back(k_default_material); // slot 0
-  std::vector<int> slot_of_material(obj.material_names.size(), 0);
-  for (std::size_t m = 0; m < obj.material_names.size(); ++m) {
-    const auto found = mtl.find(obj.material_names[m]);
-    if (found == mtl.end()) continue;
-    slot_of_material[m] = static_cast<int>(scene.materials.size());
-    scene.materials.push_back(found->second);
+  scene.warnings = std::move(obj.warnings);
+  scene.materials.push_back(k_default_material); // slot 0; material m of the file is m + 1
+  std::map<std::string, std::vector<std::string>> lowered; // MTL file -> materials
+  for (const ch05::ObjMaterial& m : obj.materials) {
+    bool lowered_here = false;
+    scene.materials.push_back(path_material(m, lowered_here));
+    if (lowered_here) lowered[m.file].push_back("'" + m.name + "'");
+  }
+  for (const auto& [file, names] : lowered) {
+    std::string list;
+    for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+    scene.warnings.push_back(file + ": Kd above " + format_fixed(k_max_albedo, 2) +
+                             " lowered to it in " + list +
+                             " (a surface that reflects all it receives makes the light of "
+                             "a closed room grow without bound)");
   }
   long long without = 0;
+  scene.mesh = std::move(obj.geometry);
   for (int id : obj.material_ids) {
-    const int slot = id < 0 ? 0 : slot_of_material[id];
-    without += slot == 0 ? 1 : 0;
-    scene.material.push_back(slot);
+    without += id < 0 ? 1 : 0;
+    scene.material.push_back(id + 1);
   }
   if (defaulted != nullptr) *defaulted = without;
   scene.lights = build_light_table(scene);
   scene.description = path;
   return scene;
+}
+
+CameraSpec frame_from_outside(const ch04::Mesh& mesh, double fov_degrees, Extent extent) {
+  CameraSpec camera = ch06::frame_bounds_down_z(ch06::bounds_of(mesh), fov_degrees, extent);
+  Vec3d covered{}; // twice the area the triangles cover, projected along x, y and z
+  for (int i = 0; i < static_cast<int>(mesh.triangles.size()); ++i) {
+    const ch04::TriangleF t = mesh.triangle(i);
+    const Vec3d a = t.v0.as<double>();
+    covered = covered + elementwise_abs(cross(t.v1.as<double>() - a, t.v2.as<double>() - a));
+  }
+  if (!(max_component(covered) > 0.0) || covered.z > 1e-3 * max_component(covered))
+    return camera;
+  const double distance = length(camera.eye - camera.target);
+  if (covered.x >= covered.y) {
+    camera.eye = camera.target + Vec3d{distance, 0.0, 0.0};
+  } else { // from above, the -z axis up the image
+    camera.eye = camera.target + Vec3d{0.0, distance, 0.0};
+    camera.up = {0.0, 0.0, -1.0};
+  }
+  return camera;
 }
 
 PathScene moving_path_scene(double time, int detail) {

@@ -21,6 +21,16 @@ struct PathMaterial {
   Vec3f emission; // radiance emitted from the front face (corners counter-clockwise); or 0
 };
 
+// The brightest light a scene may hold: an emission (Ke), a sky radiance or a sun irradiance.
+// Far beyond any real scene's (a sun-lit white wall is about 1e4 cd/m^2 in photometric units,
+// 1 here), and far below what float's sums of a million samples of a light seen through the
+// brightest walls (1 / (1 - k_max_albedo) = 100 bounces' worth) can hold (3.4e38).
+inline constexpr double k_max_light = 1e6;
+// The largest albedo a material gets: a surface that reflects all it receives makes the light
+// in a closed room grow without bound (the furnace's Le / (1 - a)), and every path end only
+// by Russian roulette. An MTL's Kd in (0.99, 1] is lowered to it, with a warning.
+inline constexpr float k_max_albedo = 0.99f;
+
 // What lights the scene from outside it: a constant sky seen by rays that leave the scene,
 // and a sun, a directional light with no angular size (a delta light: only next-event
 // estimation can find it, never a bounced ray).
@@ -49,6 +59,7 @@ struct PathScene {
   Environment environment{};
   LightTable lights;       // from the materials' emission: call build_light_table after changes
   std::string description; // for the report
+  std::vector<std::string> warnings; // what loading let pass, a sentence each naming its file
 };
 
 // The table of the scene's emitting triangles. Throws InputError for an emission that is
@@ -57,11 +68,21 @@ struct PathScene {
 // of an emitting material that has area elsewhere are left out of the table.
 LightTable build_light_table(const PathScene& scene);
 
-// An OBJ file (chapter 05's loader) with its MTL materials: Kd as albedo, Ke as emission.
-// Faces without a material, or whose MTL file is missing, get the default material (grey
-// albedo 0.8, no emission); `defaulted` counts them when not null. Albedos are clamped into
-// [0, 0.99] per channel, so that no surface reflects more than it receives.
+// An OBJ file (chapter 05's loader, which reads the file and its MTL files once) with its MTL
+// materials: Kd as albedo, Ke as emission. Faces without a material, or whose MTL file is
+// missing, get the default material (grey albedo 0.8, no emission); `defaulted` counts them
+// when not null. The loader's warnings (a missing MTL file, an unknown `usemtl` name) go to
+// `warnings`, with one more per MTL file whose Kd values in (0.99, 1] were lowered to
+// k_max_albedo. Throws InputError, naming the material and its file, for a Kd or Ke that is
+// not three finite numbers in the text, a Kd below 0 or above 1, and a Ke below 0 or above
+// k_max_light.
 PathScene load_path_scene(const std::string& path, long long* defaulted = nullptr);
+
+// A camera that sees a model from outside: chapter 06's framing, looking down -z at the
+// middle of its box, unless from there the model is seen edge-on (its triangles, projected
+// along z, cover less than 1/1000 of what they cover along x or y: a flat model in a plane
+// that holds the z axis). Then it looks along the axis, x or y, where they cover the most.
+CameraSpec frame_from_outside(const ch04::Mesh& mesh, double fov_degrees, Extent extent);
 
 // The course's Cornell room (assets/cornell_room.obj.gz) is read through load_path_scene; this
 // is the camera that looks into it from just inside its front wall.
