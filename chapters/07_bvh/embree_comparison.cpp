@@ -38,8 +38,8 @@ namespace {
 using ch04::MeshHit;
 
 struct CompareOptions {
-  int width = 1920;                 // image width in pixels (primary rays: one per pixel)
-  int height = 1080;                // image height in pixels
+  int width = k_protocol_extent.width;   // image width in pixels (primary rays: one per pixel)
+  int height = k_protocol_extent.height; // image height in pixels
   int threads = cpu_thread_count(); // tracing threads, the same for both; Embree's build too
   int runs = 5;                     // timed runs per ray type, after one warm-up
   std::string tracer;               // ours: one of the program's tracers
@@ -490,6 +490,8 @@ int run_embree_compare(int argc, char** argv, const EmbreeCompareProgram& progra
   return run_main(app, argc, argv, [&] {
     check_tracer(options.tracer, program);
     check_threads(options.threads);
+    // A report that cannot be written is refused before the comparison, not after it.
+    if (!options.json.empty()) check_report_path(options.json);
     Report report(program.report_title + " " RTC_VERSION_STRING, "Mrays/s", "Embree");
     report.add_context("resolution",
                        std::to_string(options.width) + "x" + std::to_string(options.height));

@@ -1,7 +1,7 @@
 // Chapter 09 tests of ch09_embree_compare, where Embree is installed: the wide trees trace the
 // room's rays as Embree does (a differing triangle only ever at the same distance, no hit that
-// one finds and the other misses), and a --tracer or --threads it cannot honour is one error
-// line and a non-zero exit.
+// one finds and the other misses), and a --tracer or --threads it cannot honour, or a --json
+// it cannot write, is one error line and a non-zero exit before any ray is traced.
 #ifdef RT_CH09_EMBREE_PROGRAM
 
 #include <filesystem>
@@ -80,6 +80,18 @@ TEST_CASE("embree compare: an unknown tracer, another thread count or an absurd 
   CHECK(run.exit_code == 2);
   CHECK(line_count(run.output) == 1);
   CHECK_THAT(run.output, contains("268435456 pixels"));
+}
+
+TEST_CASE("embree compare: a --json it cannot write is refused before the comparison",
+          "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09_embree");
+  const ProgramRun run = rt::testing::run_command(
+      k_program + " --width 16 --height 9 --runs 1 --json " +
+      (folder / "no" / "such" / "report.json").string() + " " + k_room);
+  INFO(run.output);
+  CHECK(run.exit_code == 1);
+  CHECK(line_count(run.output) == 1); // no table: nothing was traced
+  CHECK_THAT(run.output, contains("report.json"));
 }
 
 #endif
