@@ -36,42 +36,66 @@ struct ChapterOptions : ch03::ProgramOptions {
   BuildOptions build;
   TriangleVariant variant = TriangleVariant::watertight;
   bool smooth = true, shadows = true;
-  long long reference_pixels = 1024; // rays traced by the float64 reference
+  long long reference_pixels = k_protocol_reference_rays; // rays the float64 reference traces
   bool skip_cpu = false;
-  bool end_to_end = true; // with --benchmark: also the shaded frame
-  int check_rays = 4096;  // with --benchmark: rays per ray type checked against brute force
-  bool heat_map = false;  // the image shows nodes visited per ray instead of shading
+  bool end_to_end = true;                 // with --benchmark: also the shaded frame
+  int check_rays = k_protocol_check_rays; // with --benchmark: rays per ray type checked
+  bool heat_map = false; // the image shows nodes visited per ray instead of shading
 };
 
-int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
-  RunnerOptions runner;
-  runner.extent = options.size_given() ? options.common.extent() : Extent{1920, 1080};
-  runner.backend = backend;
-  runner.variant = options.variant;
-  runner.build = options.build;
-  runner.frames = options.common.frames;
-  runner.check_rays = options.check_rays;
-  runner.build_rows = true;
-  runner.end_to_end = options.end_to_end;
-  Report report("Chapter 07: benchmark protocol", "Mrays/s",
-                "chapter 07's hits; brute force on sampled rays");
-  add_runner_context(report, runner);
-  const std::vector<SceneResult> results =
-      run_benchmark(benchmark_scenes(options.query), {chapter07_tracers}, runner, report);
-  finish_report(report, options.common);
-  std::cout << "\n"
-            << summary_table(results, to_string(options.build.method),
-                             describe_backend(backend), course_anchors(std::cout));
-  for (const SceneResult& r : results)
-    if (r.problems > 0) throw Error("the tree disagrees with brute force on sampled rays");
-  return 0;
+// The chapter's flags that only some modes read (query_modes.h); given in another mode, they
+// are refused. The image is always shaded through the watertight test.
+const FlagModes k_chapter_flags[] = {
+    {"--variant", k_traced_modes},
+    {"--shading", k_image_modes},
+    {"--shadows", k_image_modes},
+    {"--heat-map", k_image_modes},
+    {"--reference-pixels", k_report_modes},
+    {"--skip-cpu", k_report_modes},
+    {"--end-to-end", {ProgramMode::benchmark}},
+    {"--check-rays", {ProgramMode::benchmark}},
+};
+
+// Flags that do nothing beside another of the chapter's: the median split has no bins (the
+// report alone builds a SAH tree as well), and the heat map is not shaded.
+void check_chapter_flags(const ChapterOptions& options, const CLI::App& app) {
+  const ProgramMode mode = program_mode(options.query, options);
+  if (options.build.method == SplitMethod::median && app.count("--bins") > 0 &&
+      mode != ProgramMode::report)
+    throw UsageError("--bins does nothing with --split median, which cuts at the median "
+                     "without bins");
+  for (const char* flag : {"--shading", "--shadows"})
+    if (options.heat_map && app.count(flag) > 0 && mode != ProgramMode::report)
+      throw UsageError(std::string(flag) +
+                       " does nothing with --heat-map, whose image counts nodes");
+}
+
+// --benchmark: the tree of --split on the protocol, its build and the shaded frame, and the
+// summary table the book prints.
+BenchmarkMode benchmark_mode(const ChapterOptions& options) {
+  BenchmarkMode mode;
+  mode.title = "Chapter 07: benchmark protocol";
+  mode.reference = "chapter 07's hits; brute force on sampled rays";
+  mode.runner.variant = options.variant;
+  mode.runner.build = options.build;
+  mode.runner.check_rays = options.check_rays;
+  mode.runner.build_rows = true;
+  mode.runner.end_to_end = options.end_to_end;
+  mode.tracers = [](Report&) { return std::vector<TracerMaker>{chapter07_tracers}; };
+  mode.tables = [](const std::vector<SceneResult>& results, const RunnerOptions& runner) {
+    return "\n" + summary_table(results, to_string(runner.build.method),
+                                describe_backend(runner.backend), course_anchors(std::cout));
+  };
+  mode.disagreement = "the tree disagrees with brute force on sampled rays";
+  return mode;
 }
 
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
   check_build_options(options.build);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
-  if (options.query.benchmark) return run_benchmark_mode(options, backend);
+  if (options.query.benchmark)
+    return run_benchmark_mode(benchmark_mode(options), options.query, options, backend);
   if (options.query.query())
     return run_query(options.query, options, backend, options.build, options.variant,
                      chapter07_tracers);
@@ -150,6 +174,9 @@ int main(int argc, char** argv) {
   options.query.models_dir = RT_MODELS_DIR;
   ch03::add_program_options(app, options);
   ch04::add_triangle_variant_option(app, options.variant);
+  app.get_option("--variant")
+      ->description("Triangle test of the measurements, the queries and the benchmark (the "
+                    "image always uses the watertight test)");
   add_query_options(app, options.query, "the tree's rays, build and shaded frame");
   add_build_options(app, options.build);
   app.add_option_function<std::string>(
@@ -175,7 +202,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, rt::k_max_image_side * rt::k_max_image_side))
       ->capture_default_str();
   return ch03::run_program_main(app, argc, argv, options, [&] {
-    check_query_options(options.query, app);
+    check_query_options(options.query, options, app, k_chapter_flags);
+    check_chapter_flags(options, app);
     return run(options);
   });
 }

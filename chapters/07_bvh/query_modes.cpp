@@ -4,12 +4,15 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <iterator>
 
 #include "bvh_build.h"
 #include "obj_loader.h"
 #include "ray_io.h"
+#include "rt/cli.h"
 #include "rt/error.h"
 #include "rt/output_file.h"
+#include "rt/program_output.h"
 #include "rt/report.h"
 
 namespace rt::ch07 {
@@ -76,6 +79,108 @@ int run_dump_hits(const QueryOptions& q, Backend backend, const QueryScene& s,
   return 0;
 }
 
+// The flag that picks a mode, and what the mode does, for the refusals.
+const char* mode_flag(ProgramMode mode) {
+  switch (mode) {
+  case ProgramMode::report:
+    return "the report";
+  case ProgramMode::window:
+    return "--window";
+  case ProgramMode::image_only:
+    return "--image-only";
+  case ProgramMode::rays:
+    return "--rays";
+  case ProgramMode::dump_hits:
+    return "--dump-hits";
+  case ProgramMode::benchmark:
+    return "--benchmark";
+  }
+  return "?";
+}
+
+const char* mode_work(ProgramMode mode) {
+  switch (mode) {
+  case ProgramMode::report:
+    return "measures the chapter's tracers and writes the image";
+  case ProgramMode::window:
+    return "shows the image on screen";
+  case ProgramMode::image_only:
+    return "writes the image and measures nothing";
+  case ProgramMode::rays:
+    return "traces the file's rays as they are and writes their hits";
+  case ProgramMode::dump_hits:
+    return "writes the hits of the protocol's pinhole camera (up 0,1,0; --eye, --target, "
+           "--fov, --width and --height move it)";
+  case ProgramMode::benchmark:
+    return "measures the protocol's views of its SCENE files, or of the benchmark set in "
+           "--models";
+  }
+  return "?";
+}
+
+// The flags every program with a tree has, and the modes that read them (--backend and
+// --headless: all).
+constexpr ModeSet k_not_rays{ProgramMode::report, ProgramMode::window, ProgramMode::image_only,
+                             ProgramMode::dump_hits, ProgramMode::benchmark};
+const FlagModes k_common_flags[] = {
+    {"--window", {ProgramMode::window}},
+    {"--image-only", {ProgramMode::image_only}},
+    {"--scene",
+     {ProgramMode::report, ProgramMode::window, ProgramMode::image_only, ProgramMode::rays,
+      ProgramMode::dump_hits}},
+    {"--models", {ProgramMode::benchmark}},
+    {"--output", k_image_modes},
+    {"--json", {ProgramMode::report, ProgramMode::window, ProgramMode::benchmark}},
+    // --image-only renders once, but tools/window-test.sh gives the window's --frames to both.
+    {"--frames",
+     {ProgramMode::report, ProgramMode::window, ProgramMode::image_only,
+      ProgramMode::benchmark}},
+    {"--width", k_not_rays},
+    {"--height", k_not_rays},
+    {"--eye",
+     {ProgramMode::report, ProgramMode::window, ProgramMode::image_only,
+      ProgramMode::dump_hits}},
+    {"--target",
+     {ProgramMode::report, ProgramMode::window, ProgramMode::image_only,
+      ProgramMode::dump_hits}},
+    {"--fov",
+     {ProgramMode::report, ProgramMode::window, ProgramMode::image_only,
+      ProgramMode::dump_hits}},
+    {"--up", k_image_modes},
+    {"--camera", k_image_modes},
+};
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& name : names) out += (out.empty() ? "" : ", ") + name;
+  return out;
+}
+
+// Throws the refusal of `flag`, given in `mode`, which does not read it.
+void refuse_flag(const std::string& flag, ProgramMode mode, ModeSet modes) {
+  if (mode != ProgramMode::report)
+    throw UsageError(flag + " does nothing with " + mode_flag(mode) + ", which " +
+                     mode_work(mode));
+  // Without a mode flag: the flag belongs to a mode not asked for.
+  std::string wanted;
+  for (const ProgramMode m : {ProgramMode::benchmark, ProgramMode::rays, ProgramMode::dump_hits,
+                              ProgramMode::window, ProgramMode::image_only})
+    if (modes.has(m)) wanted += std::string(wanted.empty() ? "" : " or ") + mode_flag(m);
+  throw UsageError(flag + " goes with " + wanted);
+}
+
+// The benchmark's scenes: the SCENE files given, else those of the benchmark set in --models,
+// and the names of the set that are missing there.
+struct BenchmarkScenes {
+  std::vector<std::string> paths;
+  std::vector<std::string> missing;
+};
+
+BenchmarkScenes benchmark_scenes(const QueryOptions& q) {
+  if (!q.benchmark_scenes.empty()) return {q.benchmark_scenes, {}};
+  return {benchmark_set(q.models_dir), missing_from_benchmark_set(q.models_dir)};
+}
+
 } // namespace
 
 void add_query_options(CLI::App& app, QueryOptions& q,
@@ -105,13 +210,16 @@ void add_query_options(CLI::App& app, QueryOptions& q,
       ->default_str("primary");
   app.add_flag("--benchmark", q.benchmark,
                "Run the benchmark protocol on the SCENE files given, or on the benchmark set "
-               "in --models: " +
+               "in --models (the scenes found there, with a warning naming any missing): " +
                    what_benchmark_measures);
   app.add_option("scenes", q.benchmark_scenes, "With --benchmark: OBJ files to measure")
       ->check(CLI::ExistingFile);
   app.add_option("--models", q.models_dir,
                  "Where --benchmark finds the benchmark set (tools/get-models.sh fills it)")
       ->capture_default_str();
+  add_help_paragraph(app, "Modes: the report (the default), --window, --image-only, --rays, "
+                          "--dump-hits and --benchmark each read only the flags they use; a "
+                          "flag the mode asked for would not use is refused, naming both.");
 }
 
 void add_build_options(CLI::App& app, BuildOptions& build) {
@@ -131,9 +239,22 @@ void add_build_options(CLI::App& app, BuildOptions& build) {
       ->capture_default_str();
 }
 
-void check_query_options(const QueryOptions& q, const CLI::App& app) {
+ProgramMode program_mode(const QueryOptions& q, const ch03::ProgramOptions& p) {
+  if (q.benchmark) return ProgramMode::benchmark;
+  if (!q.rays_path.empty()) return ProgramMode::rays;
+  if (!q.dump_hits_path.empty()) return ProgramMode::dump_hits;
+  if (p.display.window) return ProgramMode::window;
+  if (p.image_only) return ProgramMode::image_only;
+  return ProgramMode::report;
+}
+
+void check_query_options(const QueryOptions& q, const ch03::ProgramOptions& p,
+                         const CLI::App& app, std::span<const FlagModes> chapter_flags) {
   if (!q.benchmark_scenes.empty() && !q.benchmark)
     throw UsageError("scene files on the command line go with --benchmark (else --scene)");
+  if (!q.benchmark_scenes.empty() && app.count("--models") > 0)
+    throw UsageError("--models does nothing with SCENE files: --benchmark measures the files "
+                     "given, or else the benchmark set in --models");
   if (!q.hits_path.empty() && q.rays_path.empty())
     throw UsageError("--hits goes with --rays FILE");
   if (!q.rays_path.empty() && q.hits_path.empty())
@@ -145,15 +266,44 @@ void check_query_options(const QueryOptions& q, const CLI::App& app) {
   if (q.benchmark && q.query())
     throw UsageError("--benchmark measures the benchmark's own rays: leave out --rays and "
                      "--dump-hits");
-  if (app.get_option("--models")->count() > 0 && !q.benchmark)
-    throw UsageError("--models goes with --benchmark");
+  const ProgramMode mode = program_mode(q, p);
+  for (const std::span<const FlagModes> flags :
+       {std::span<const FlagModes>(k_common_flags), chapter_flags})
+    for (const FlagModes& f : flags)
+      if (app.count(f.flag) > 0 && !f.modes.has(mode)) refuse_flag(f.flag, mode, f.modes);
   // Outputs that cannot be written are refused before the work, not after it.
   if (!q.hits_path.empty()) check_output_path(q.hits_path, "hits");
   if (!q.dump_hits_path.empty()) check_output_path(q.dump_hits_path, "hits");
 }
 
-std::vector<std::string> benchmark_scenes(const QueryOptions& q) {
-  return q.benchmark_scenes.empty() ? benchmark_set(q.models_dir) : q.benchmark_scenes;
+int run_benchmark_mode(const BenchmarkMode& mode, const QueryOptions& query,
+                       const ch03::ProgramOptions& program, Backend backend) {
+  RunnerOptions runner = mode.runner;
+  runner.extent = program.size_given() ? program.common.extent() : k_protocol_extent;
+  runner.backend = backend;
+  runner.frames = program.common.frames;
+  Report report(mode.title, "Mrays/s", mode.reference);
+  add_runner_context(report, runner);
+  if (mode.context) mode.context(report);
+  const BenchmarkScenes scenes = benchmark_scenes(query);
+  if (query.benchmark_scenes.empty())
+    report.add_context(
+        "scenes", "the benchmark set in " + query.models_dir +
+                      (scenes.missing.empty() ? "" : ", without " + joined(scenes.missing)));
+  // A set with models missing is measured on the others: said at the start, not only in the
+  // report at the end.
+  if (!scenes.missing.empty())
+    std::cerr << "warning: --benchmark: " << query.models_dir << " holds "
+              << scenes.paths.size() << " of the benchmark set's " << std::size(k_benchmark_set)
+              << " scenes; measuring those, without " << joined(scenes.missing)
+              << " (tools/get-models.sh fetches them)" << std::endl;
+  const std::vector<SceneResult> results =
+      run_benchmark(scenes.paths, mode.tracers(report), runner, report);
+  finish_report(report, program.common);
+  std::cout << mode.tables(results, runner);
+  for (const SceneResult& r : results)
+    if (r.problems > 0) throw Error(mode.disagreement);
+  return 0;
 }
 
 int run_query(const QueryOptions& q, const ch03::ProgramOptions& p, Backend backend,
@@ -164,7 +314,7 @@ int run_query(const QueryOptions& q, const ch03::ProgramOptions& p, Backend back
   ProtocolView view;
   if (!q.dump_hits_path.empty()) {
     view = query_view(q, p, s.bvh.bounds);
-    const Extent extent = p.size_given() ? p.common.extent() : Extent{1920, 1080};
+    const Extent extent = p.size_given() ? p.common.extent() : k_protocol_extent;
     s.camera = make_protocol_camera(view, extent.width, extent.height);
   }
   const TracerScene scene{

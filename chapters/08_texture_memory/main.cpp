@@ -35,8 +35,16 @@ struct ChapterOptions : ch03::ProgramOptions {
   ch07::QueryOptions query;
   std::vector<MemoryPath> paths{std::begin(k_all_paths), std::end(k_all_paths)};
   bool paths_given = false;
-  long long reference_rays = 1024;
+  long long reference_rays = ch07::k_protocol_reference_rays;
   bool skip_cpu = false;
+};
+
+// The chapter's flags that only some modes read (chapter 07's query_modes.h): the image is
+// always traced through the kept path.
+const ch07::FlagModes k_chapter_flags[] = {
+    {"--memory", ch07::k_traced_modes},
+    {"--reference-rays", ch07::k_report_modes},
+    {"--skip-cpu", ch07::k_report_modes},
 };
 
 ch07::RunnerOptions runner_options(const ChapterOptions& options, Backend backend,
@@ -48,9 +56,12 @@ ch07::RunnerOptions runner_options(const ChapterOptions& options, Backend backen
   return runner;
 }
 
-void add_context(Report& report, const ch07::RunnerOptions& runner,
-                 const std::vector<MemoryPath>& paths) {
-  ch07::add_runner_context(report, runner);
+// The error of a run in which a path's hits were not chapter 07's.
+constexpr const char* k_changed_hits =
+    "a memory path changed the hits: they must be chapter 07's";
+
+// The memory paths' context lines.
+void add_path_context(Report& report, const std::vector<MemoryPath>& paths) {
   std::string described;
   for (const MemoryPath p : paths)
     described += std::string(described.empty() ? "" : "; ") + to_string(p) + ": " + describe(p);
@@ -59,29 +70,32 @@ void add_context(Report& report, const ch07::RunnerOptions& runner,
                                       " (what the image and later chapters use)");
 }
 
+// One table per ray type: every path against the plain loads.
+std::string path_tables(const std::vector<ch07::SceneResult>& results,
+                        const ch07::RunnerOptions& runner) {
+  return ch07::tracer_tables(results, to_string(MemoryPath::global), runner,
+                             describe_backend(runner.backend), ch07::course_anchors(std::cout));
+}
+
 // The tables of the first backend's figures, and the verdict on every backend's.
 void print_tables(const std::vector<ch07::SceneResult>& results,
                   const ch07::RunnerOptions& runner, long long problems) {
-  std::cout << ch07::tracer_tables(results, to_string(MemoryPath::global), runner,
-                                   describe_backend(runner.backend),
-                                   ch07::course_anchors(std::cout));
-  if (problems > 0) throw Error("a memory path changed the hits: they must be chapter 07's");
+  std::cout << path_tables(results, runner);
+  if (problems > 0) throw Error(k_changed_hits);
 }
 
-int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
-  const ch07::RunnerOptions runner = runner_options(
-      options, backend, options.size_given() ? options.common.extent() : Extent{1920, 1080});
-  Report report("Chapter 08: memory paths on the benchmark protocol", "Mrays/s",
-                "chapter 07's hits, bit for bit");
-  add_context(report, runner, options.paths);
-  const std::vector<ch07::SceneResult> results =
-      ch07::run_benchmark(ch07::benchmark_scenes(options.query),
-                          {memory_path_tracers(options.paths, true)}, runner, report);
-  finish_report(report, options.common);
-  long long problems = 0;
-  for (const ch07::SceneResult& r : results) problems += r.problems;
-  print_tables(results, runner, problems);
-  return 0;
+// --benchmark: every path of --memory on the protocol, one table per ray type.
+ch07::BenchmarkMode benchmark_mode(const ChapterOptions& options) {
+  ch07::BenchmarkMode mode;
+  mode.title = "Chapter 08: memory paths on the benchmark protocol";
+  mode.reference = "chapter 07's hits, bit for bit; brute force on sampled rays";
+  mode.tracers = [&options](Report&) {
+    return std::vector<ch07::TracerMaker>{memory_path_tracers(options.paths, true)};
+  };
+  mode.context = [&options](Report& report) { add_path_context(report, options.paths); };
+  mode.tables = path_tables;
+  mode.disagreement = k_changed_hits;
+  return mode;
 }
 
 int run(ChapterOptions& options) {
@@ -90,7 +104,8 @@ int run(ChapterOptions& options) {
   // Paths named with --memory must exist where the run is (`all` takes what exists there).
   if (options.paths_given)
     for (const MemoryPath path : options.paths) check_runs_on(path, backend);
-  if (options.query.benchmark) return run_benchmark_mode(options, backend);
+  if (options.query.benchmark)
+    return ch07::run_benchmark_mode(benchmark_mode(options), options.query, options, backend);
   if (options.query.query())
     return ch07::run_query(options.query, options, backend, {},
                            ch04::TriangleVariant::watertight,
@@ -142,7 +157,8 @@ int run(ChapterOptions& options) {
           },
       .measure =
           [&](Report& rows) {
-            add_context(rows, runner, options.paths);
+            ch07::add_runner_context(rows, runner);
+            add_path_context(rows, options.paths);
             rows.add_context("scene", options.query.scene_path + ", " +
                                           group_digits(std::ssize(scene.mesh.triangles)) +
                                           " triangles");
@@ -187,7 +203,7 @@ int main(int argc, char** argv) {
   app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
-    ch07::check_query_options(options.query, app);
+    ch07::check_query_options(options.query, options, app, k_chapter_flags);
     return run(options);
   });
 }

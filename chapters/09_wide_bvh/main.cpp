@@ -31,9 +31,21 @@ using namespace rt::ch09;
 struct ChapterOptions : ch03::ProgramOptions {
   ch07::QueryOptions query;
   std::optional<ChapterTracer> tracer; // --tracer: the one traced (queries) or measured
-  long long reference_rays = 1024;
+  long long reference_rays = ch07::k_protocol_reference_rays;
   bool skip_cpu = false;
 };
+
+// The chapter's flags that only some modes read (chapter 07's query_modes.h): the image is
+// always traced through the compressed tree.
+const ch07::FlagModes k_chapter_flags[] = {
+    {"--tracer", ch07::k_traced_modes},
+    {"--reference-rays", ch07::k_report_modes},
+    {"--skip-cpu", ch07::k_report_modes},
+};
+
+// The error of a run in which a tree broke its rule.
+constexpr const char* k_disagreement =
+    "a tree disagrees with chapter 07's hits beyond exact ties";
 
 // The tracers measured: the binary tree and --tracer, or every one.
 std::vector<ChapterTracer> measured(const ChapterOptions& options) {
@@ -49,47 +61,44 @@ BuildSink build_rows(Report& report) {
   };
 }
 
-ch07::RunnerOptions runner_options(const ChapterOptions& options, Backend backend,
-                                   Extent extent) {
-  ch07::RunnerOptions runner;
-  runner.extent = extent;
-  runner.backend = backend;
-  runner.frames = options.common.frames;
-  runner.count_work = backend == Backend::cpu; // the CPU's work counters, on CPU runs only
-  return runner;
+// One table per ray type (every tree against the binary one), and the trees' memory.
+std::string tree_tables(const std::vector<ch07::SceneResult>& results,
+                        const ch07::RunnerOptions& runner) {
+  return ch07::tracer_tables(results, to_string(ChapterTracer::binary), runner,
+                             describe_backend(runner.backend),
+                             ch07::course_anchors(std::cout)) +
+         memory_table(results);
 }
 
 // The tables of the first backend's figures, and the verdict on every backend's.
 void print_tables(const std::vector<ch07::SceneResult>& results,
                   const ch07::RunnerOptions& runner, long long problems) {
-  std::cout << ch07::tracer_tables(results, to_string(ChapterTracer::binary), runner,
-                                   describe_backend(runner.backend),
-                                   ch07::course_anchors(std::cout))
-            << memory_table(results);
-  if (problems > 0) throw Error("a tree disagrees with chapter 07's hits beyond exact ties");
+  std::cout << tree_tables(results, runner);
+  if (problems > 0) throw Error(k_disagreement);
 }
 
-int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
-  ch07::RunnerOptions runner = runner_options(
-      options, backend, options.size_given() ? options.common.extent() : Extent{1920, 1080});
-  runner.check_rays = 4096;
-  Report report("Chapter 09: wide trees on the benchmark protocol", "Mrays/s",
-                "chapter 07's hits up to exact ties; brute force on sampled rays");
-  ch07::add_runner_context(report, runner);
-  const std::vector<ch07::SceneResult> results = ch07::run_benchmark(
-      ch07::benchmark_scenes(options.query),
-      {chapter_tracers(measured(options), build_rows(report))}, runner, report);
-  finish_report(report, options.common);
-  long long problems = 0;
-  for (const ch07::SceneResult& r : results) problems += r.problems;
-  print_tables(results, runner, problems);
-  return 0;
+// --benchmark: every tree (or --tracer and the binary one) on the protocol, each wide tree's
+// build as a row.
+ch07::BenchmarkMode benchmark_mode(const ChapterOptions& options, Backend backend) {
+  ch07::BenchmarkMode mode;
+  mode.title = "Chapter 09: wide trees on the benchmark protocol";
+  mode.reference = "chapter 07's hits up to exact ties; brute force on sampled rays";
+  mode.runner.count_work = backend == Backend::cpu; // the CPU's work counters, on CPU runs only
+  mode.tracers = [&options](Report& report) {
+    return std::vector<ch07::TracerMaker>{
+        chapter_tracers(measured(options), build_rows(report))};
+  };
+  mode.tables = tree_tables;
+  mode.disagreement = k_disagreement;
+  return mode;
 }
 
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
-  if (options.query.benchmark) return run_benchmark_mode(options, backend);
+  if (options.query.benchmark)
+    return ch07::run_benchmark_mode(benchmark_mode(options, backend), options.query, options,
+                                    backend);
   if (options.query.query())
     return ch07::run_query(options.query, options, backend, {},
                            ch04::TriangleVariant::watertight,
@@ -109,7 +118,10 @@ int run(ChapterOptions& options) {
   std::optional<CompressedBvh> tree; // built for the first frame
   std::optional<ch06::DeviceShadedScene> d_scene;
   std::optional<DeviceWideTree<CompressedNode>> d_tree; // uploaded for the first GPU frame
-  ch07::RunnerOptions runner = runner_options(options, backend, options.common.extent());
+  ch07::RunnerOptions runner;
+  runner.extent = options.common.extent();
+  runner.backend = backend;
+  runner.frames = options.common.frames;
   runner.reference_rays = options.reference_rays;
   runner.count_work = true; // run_scene_on_each counts on its CPU run alone
   ch07::BackendRuns runs;
@@ -177,7 +189,7 @@ int main(int argc, char** argv) {
   app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
-    ch07::check_query_options(options.query, app);
+    ch07::check_query_options(options.query, options, app, k_chapter_flags);
     return run(options);
   });
 }

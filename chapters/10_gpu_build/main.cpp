@@ -58,33 +58,49 @@ BuildSink keep_builds(Report& report, std::vector<std::pair<Builder, BuiltTree>>
   };
 }
 
-int run_benchmark_mode(const ChapterOptions& options, Backend backend) {
-  ch07::RunnerOptions runner;
-  runner.extent = options.size_given() ? options.common.extent() : Extent{1920, 1080};
-  runner.backend = backend;
-  runner.frames = options.common.frames;
-  runner.check_rays = 4096;
-  Report report("Chapter 10: every builder's tree on the benchmark protocol", "Mrays/s",
-                "chapter 07's hits up to exact ties; brute force on sampled rays");
-  ch07::add_runner_context(report, runner);
-  std::vector<std::pair<Builder, BuiltTree>> builds;
-  const std::vector<ch07::SceneResult> results = ch07::run_benchmark(
-      ch07::benchmark_scenes(options.query),
-      {builder_tracers(measured(options), keep_builds(report, builds))}, runner, report);
-  finish_report(report, options.common);
-  std::cout << ch07::tracer_tables(results, to_string(Builder::cpu_sah), runner,
-                                   describe_backend(backend), ch07::course_anchors(std::cout))
-            << build_table(builds);
-  for (const ch07::SceneResult& r : results)
-    if (r.problems > 0)
-      throw Error("a tree disagrees with chapter 07's hits beyond exact ties");
-  return 0;
+// The chapter's flags that only some modes read (chapter 07's query_modes.h), outside
+// --moving: the image is always traced through the LBVH.
+const ch07::FlagModes k_chapter_flags[] = {
+    {"--builder", ch07::k_traced_modes},
+    {"--skip-cpu", ch07::k_report_modes},
+};
+
+// One table per ray type (every builder's tree against chapter 07's), and the builds.
+std::string builder_tables(const std::vector<ch07::SceneResult>& results,
+                           const ch07::RunnerOptions& runner,
+                           const std::vector<std::pair<Builder, BuiltTree>>& builds) {
+  return ch07::tracer_tables(results, to_string(Builder::cpu_sah), runner,
+                             describe_backend(runner.backend),
+                             ch07::course_anchors(std::cout)) +
+         build_table(builds);
+}
+
+// --benchmark: every builder (or --builder and chapter 07's) on the protocol, each build as a
+// row of the report and of the builds' table.
+ch07::BenchmarkMode benchmark_mode(const ChapterOptions& options,
+                                   std::vector<std::pair<Builder, BuiltTree>>& builds) {
+  ch07::BenchmarkMode mode;
+  mode.title = "Chapter 10: every builder's tree on the benchmark protocol";
+  mode.reference = "chapter 07's hits up to exact ties; brute force on sampled rays";
+  mode.tracers = [&options, &builds](Report& report) {
+    return std::vector<ch07::TracerMaker>{
+        builder_tracers(measured(options), keep_builds(report, builds))};
+  };
+  mode.tables = [&builds](const std::vector<ch07::SceneResult>& results,
+                          const ch07::RunnerOptions& runner) {
+    return builder_tables(results, runner, builds);
+  };
+  mode.disagreement = "a tree disagrees with chapter 07's hits beyond exact ties";
+  return mode;
 }
 
 int run(ChapterOptions& options) {
   ch03::validate_camera(options.camera);
   const Backend backend = resolve_backend(options.common.backend, std::cout);
-  if (options.query.benchmark) return run_benchmark_mode(options, backend);
+  std::vector<std::pair<Builder, BuiltTree>> builds;
+  if (options.query.benchmark)
+    return ch07::run_benchmark_mode(benchmark_mode(options, builds), options.query, options,
+                                    backend);
   if (options.moving) {
     options.animation.animation.builder = options.builder.value_or(Builder::lbvh);
     if (options.moving_model) { // --scene: that model waving in the torus's place
@@ -117,9 +133,8 @@ int run(ChapterOptions& options) {
   runner.extent = options.common.extent();
   runner.backend = backend;
   runner.frames = options.common.frames;
-  runner.reference_rays = 1024;
+  runner.reference_rays = ch07::k_protocol_reference_rays;
   runner.count_work = true;
-  std::vector<std::pair<Builder, BuiltTree>> builds;
   ch07::BackendRuns runs;
   const ch03::ProgramParts parts{
       .chapter = "ch10",
@@ -151,10 +166,7 @@ int run(ChapterOptions& options) {
           },
   };
   const int code = ch03::run_window_or_headless(options, backend, parts, report);
-  if (!runs.first.empty())
-    std::cout << ch07::tracer_tables(runs.first, to_string(Builder::cpu_sah), runner,
-                                     describe_backend(backend), ch07::course_anchors(std::cout))
-              << build_table(builds);
+  if (!runs.first.empty()) std::cout << builder_tables(runs.first, runner, builds);
   if (runs.problems > 0)
     throw Error("a tree disagrees with chapter 07's hits beyond exact ties");
   return code;
@@ -197,7 +209,10 @@ int main(int argc, char** argv) {
   app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
-    ch07::check_query_options(options.query, app);
+    // --moving reads --builder in the window too (the moving scene's tree).
+    const std::span<const ch07::FlagModes> chapter_flags =
+        options.moving ? std::span<const ch07::FlagModes>{} : k_chapter_flags;
+    ch07::check_query_options(options.query, options, app, chapter_flags);
     const bool moving_flags =
         options.update || !options.animation.csv_path.empty() || app.count("--detail") > 0;
     if (moving_flags && !options.moving)

@@ -1,8 +1,11 @@
-// Chapter 07 program-test cases, shared with chapters 09 and 10, whose programs speak its query
-// flags: rays from inside the course's Cornell room, and a ray file sent through a program.
+// Chapter 07 program-test cases, shared with chapters 08 to 10, whose programs speak its query
+// flags: rays from inside the course's Cornell room, a ray file sent through a program, and
+// refusals of flags given with --window.
 #pragma once
 
 #include <cmath>
+#include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -33,6 +36,28 @@ hits_from_program(const HeadlessCpuProgram& program, const std::string& argument
   std::vector<ch04::MeshHit> hits = ch07::read_hit_file(hit_file);
   REQUIRE(hits.size() == rays);
   return hits;
+}
+
+// A small valid ray file in `folder`, so that a query that is not refused would run.
+inline std::string room_ray_file(const std::filesystem::path& folder) {
+  const std::string path = (folder / "fan.bin").string();
+  ch07::write_ray_file(path, room_ray_fan(8));
+  return path;
+}
+
+// check_refused for `program` run with --backend cpu --window before each case's arguments
+// (HeadlessCpuProgram adds --headless, which excludes --window): each is refused in one line
+// before a window is asked for, with a display or without.
+inline void check_refused_with_window(const std::string& program,
+                                      std::span<const RefusedInput> cases) {
+  for (const RefusedInput& c : cases) {
+    CAPTURE(c.arguments);
+    const ProgramRun run = run_command(program + " --backend cpu --window " + c.arguments);
+    INFO(run.output);
+    CHECK(run.exit_code == c.exit_code);
+    CHECK(line_count(run.output) == 1);
+    CHECK_THAT(run.output, contains(c.says));
+  }
 }
 
 } // namespace rt::testing

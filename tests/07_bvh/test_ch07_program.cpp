@@ -1,7 +1,8 @@
 // Chapter 07 tests of the program itself on the CPU: ray files in and hit files out (the
-// results equal brute force), the protocol's hit dumps, the benchmark mode on a small scene,
-// and bad input (malformed ray files, bad options) ending in one error line and a non-zero
-// exit.
+// results equal brute force), the protocol's hit dumps, the benchmark mode on a small scene
+// (its timing as run, a benchmark set with models missing), and bad input (malformed ray
+// files, bad options, flags that do nothing in the mode asked for) ending in one error line
+// and a non-zero exit.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +25,7 @@ using namespace rt::ch07;
 
 namespace {
 
+using rt::testing::contains;
 using rt::testing::ProgramRun;
 
 const rt::testing::HeadlessCpuProgram run_program(RT_CH07_PROGRAM);
@@ -140,3 +142,101 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch07]
   };
   rt::testing::check_refused(run_program, cases);
 }
+
+TEST_CASE("program: the benchmark's report states the runs it timed", "[ch07]") {
+  const ProgramRun run =
+      run_program("--benchmark " + k_room + " --width 16 --height 9 --frames 2");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("timing: median of 2 after 1 warm-up"));
+}
+
+TEST_CASE("program: a benchmark set with models missing names them and measures the rest",
+          "[ch07]") {
+  const std::filesystem::path models = rt::testing::temp_folder("rt_ch07_models");
+  std::filesystem::copy_file(k_room, models / "stanford-bunny.obj.gz",
+                             std::filesystem::copy_options::overwrite_existing);
+  const ProgramRun run = run_program("--benchmark --models " + models.string() +
+                                     " --width 16 --height 9 --frames 1");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output,
+             contains("warning: --benchmark: " + models.string() +
+                      " holds 1 of the benchmark set's 5 scenes; measuring those, without "
+                      "armadillo-100k, stanford-dragon, conference, sponza-dabrovic"));
+  CHECK_THAT(run.output, contains("| stanford-bunny |"));
+  CHECK_THAT(run.output, contains("scenes: the benchmark set in " + models.string() +
+                                  ", without armadillo-100k"));
+}
+
+TEST_CASE("program: a flag that does nothing in the mode asked for is refused", "[ch07]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch07");
+  const std::string rays = rt::testing::room_ray_file(folder);
+  const std::string hits = (folder / "flag_hits.bin").string();
+  const std::string image = (folder / "flag.png").string();
+  const std::string json = (folder / "flag.json").string();
+  const std::string ray_query = "--scene " + k_room + " --rays " + rays + " --hits " + hits;
+  const std::string dump = "--scene " + k_room + " --width 8 --height 8 --dump-hits " + hits;
+  const std::string bench = "--width 8 --height 8 --frames 1 --benchmark " + k_room;
+  const rt::testing::RefusedInput cases[] = {
+      {bench + " --output " + image, 2, "--output does nothing with --benchmark"},
+      {bench + " -o " + image, 2, "--output does nothing with --benchmark"},
+      {bench + " --image-only", 2, "--image-only does nothing with --benchmark"},
+      {"--benchmark --scene " + k_room + " --models " + folder.string(), 2,
+       "--scene does nothing with --benchmark"},
+      {bench + " --eye 1,2,3", 2, "--eye does nothing with --benchmark"},
+      {bench + " --camera orthographic", 2, "--camera does nothing with --benchmark"},
+      {bench + " --shading flat", 2, "--shading does nothing with --benchmark"},
+      {bench + " --heat-map", 2, "--heat-map does nothing with --benchmark"},
+      {bench + " --reference-pixels 8", 2, "--reference-pixels does nothing with --benchmark"},
+      {bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
+      {ray_query + " --output " + image, 2, "--output does nothing with --rays"},
+      {ray_query + " --image-only", 2, "--image-only does nothing with --rays"},
+      {ray_query + " --json " + json, 2, "--json does nothing with --rays"},
+      {ray_query + " --frames 3", 2, "--frames does nothing with --rays"},
+      {ray_query + " --width 64", 2, "--width does nothing with --rays"},
+      {ray_query + " --eye 0,1,0.5", 2, "--eye does nothing with --rays"},
+      {ray_query + " --shadows off", 2, "--shadows does nothing with --rays"},
+      {dump + " --json " + json, 2, "--json does nothing with --dump-hits"},
+      {dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
+      {dump + " --up 0,0,1", 2, "--up does nothing with --dump-hits"},
+      {dump + " --output " + image, 2, "--output does nothing with --dump-hits"},
+      {dump + " --frames 3", 2, "--frames does nothing with --dump-hits"},
+      {dump + " --reference-pixels 8", 2, "--reference-pixels does nothing with --dump-hits"},
+      {"--image-only --variant moller-trumbore --output " + image, 2,
+       "--variant does nothing with --image-only"},
+      {"--image-only --reference-pixels 8 --output " + image, 2,
+       "--reference-pixels does nothing with --image-only"},
+      {"--check-rays 16", 2, "--check-rays goes with --benchmark"},
+      {"--end-to-end off", 2, "--end-to-end goes with --benchmark"},
+      {bench + " --models " + folder.string(), 2, "--models does nothing with SCENE files"},
+      {"--split median --bins 8 --image-only --output " + image, 2,
+       "--bins does nothing with --split median"},
+      {"--heat-map --shading flat --image-only --output " + image, 2,
+       "--shading does nothing with --heat-map"},
+  };
+  rt::testing::check_refused(run_program, cases);
+
+  const rt::testing::RefusedInput window_cases[] = {
+      {bench, 2, "--window does nothing with --benchmark"},
+      {ray_query, 2, "--window does nothing with --rays"},
+      {dump, 2, "--window does nothing with --dump-hits"},
+      {"--image-only --output " + image, 2, "--image-only does nothing with --window"},
+      {"--variant moller-trumbore", 2, "--variant does nothing with --window"},
+      {"--reference-pixels 8", 2, "--reference-pixels does nothing with --window"},
+  };
+  rt::testing::check_refused_with_window(RT_CH07_PROGRAM, window_cases);
+}
+
+#ifdef RT_CH07_EMBREE_PROGRAM
+TEST_CASE("the Embree comparison refuses a --json it cannot write before the work", "[ch07]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch07");
+  const ProgramRun run = rt::testing::run_command(
+      std::string(RT_CH07_EMBREE_PROGRAM) + " --width 16 --height 9 --runs 1 --json " +
+      (folder / "no" / "such" / "report.json").string() + " " + k_room);
+  INFO(run.output);
+  CHECK(run.exit_code == 1);
+  CHECK(rt::testing::line_count(run.output) == 1); // no table: nothing was traced
+  CHECK_THAT(run.output, contains("report.json"));
+}
+#endif

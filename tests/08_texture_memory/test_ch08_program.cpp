@@ -1,7 +1,7 @@
 // Chapter 08 tests of the program itself on the CPU: the report traces every path the CPU has
 // and says each gives chapter 07's hits (in the text and in the JSON), the benchmark mode on a
-// small scene, and bad input (GPU-only paths on the CPU, unknown paths, bad options) ending in
-// one error line and a non-zero exit.
+// small scene, and bad input (GPU-only paths on the CPU, unknown paths, bad options, flags that
+// do nothing in the mode asked for) ending in one error line and a non-zero exit.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -10,6 +10,7 @@
 
 #include "rt_catch.h"
 
+#include "07_bvh/program_cases.h"
 #include "run_program.h"
 
 namespace {
@@ -88,4 +89,40 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch08]
       {"--image-only --output ''", 2, "--output"},
   };
   rt::testing::check_refused(run_program, cases);
+}
+
+TEST_CASE("program: a flag that does nothing in the mode asked for is refused", "[ch08]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch08");
+  const std::string rays = rt::testing::room_ray_file(folder);
+  const std::string hits = (folder / "flag_hits.bin").string();
+  const std::string image = (folder / "flag.png").string();
+  const std::string json = (folder / "flag.json").string();
+  const std::string ray_query = "--scene " + k_room + " --rays " + rays + " --hits " + hits;
+  const std::string dump = "--scene " + k_room + " --width 8 --height 8 --dump-hits " + hits;
+  const std::string bench = "--width 8 --height 8 --frames 1 --benchmark " + k_room;
+  const rt::testing::RefusedInput cases[] = {
+      {bench + " --reference-rays 8", 2, "--reference-rays does nothing with --benchmark"},
+      {bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
+      {bench + " --output " + image, 2, "--output does nothing with --benchmark"},
+      {bench + " --fov 30", 2, "--fov does nothing with --benchmark"},
+      {"--benchmark --scene " + k_room + " --models " + folder.string(), 2,
+       "--scene does nothing with --benchmark"},
+      {ray_query + " --json " + json, 2, "--json does nothing with --rays"},
+      {ray_query + " --reference-rays 8", 2, "--reference-rays does nothing with --rays"},
+      {ray_query + " --height 8", 2, "--height does nothing with --rays"},
+      {dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
+      {dump + " --image-only", 2, "--image-only does nothing with --dump-hits"},
+      {"--image-only --memory float4 --output " + image, 2,
+       "--memory does nothing with --image-only"},
+      {"--image-only --skip-cpu --output " + image, 2,
+       "--skip-cpu does nothing with --image-only"},
+  };
+  rt::testing::check_refused(run_program, cases);
+  const rt::testing::RefusedInput window_cases[] = {
+      {bench, 2, "--window does nothing with --benchmark"},
+      {ray_query, 2, "--window does nothing with --rays"},
+      {"--memory float4", 2, "--memory does nothing with --window"},
+      {"--reference-rays 8", 2, "--reference-rays does nothing with --window"},
+  };
+  rt::testing::check_refused_with_window(RT_CH08_PROGRAM, window_cases);
 }

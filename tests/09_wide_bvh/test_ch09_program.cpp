@@ -1,8 +1,9 @@
 // Chapter 09 tests of the program itself on the CPU: the report measures every tracer on
 // every ray type and finds chapter 07's hits (in the text and the JSON), --tracer narrows it,
-// the benchmark mode on a small scene, ray files (also through the sorted rays' tracer) and hit
-// dumps through the compressed tree give brute force's hits, and bad input ends in one error
-// line and a non-zero exit.
+// the benchmark mode on a small scene (its report stating the runs --frames asked for), ray
+// files (also through the sorted rays' tracer) and hit dumps through the compressed tree give
+// brute force's hits, and bad input (a flag that does nothing in the mode asked for among it)
+// ends in one error line and a non-zero exit.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -158,4 +159,52 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch09]
       {"--image-only --output ''", 2, "--output"},
   };
   rt::testing::check_refused(run_program, cases);
+}
+
+TEST_CASE("program: the benchmark's report states the runs --frames asked for", "[ch09]") {
+  for (const int frames : {1, 3}) {
+    CAPTURE(frames);
+    const ProgramRun run =
+        run_program("--benchmark " + k_room +
+                    " --width 16 --height 9 --tracer wide8 --frames " + std::to_string(frames));
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    CHECK_THAT(run.output,
+               contains("timing: median of " + std::to_string(frames) + " after 1 warm-up"));
+  }
+}
+
+TEST_CASE("program: a flag that does nothing in the mode asked for is refused", "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
+  const std::string rays = rt::testing::room_ray_file(folder);
+  const std::string hits = (folder / "flag_hits.bin").string();
+  const std::string image = (folder / "flag.png").string();
+  const std::string json = (folder / "flag.json").string();
+  const std::string ray_query = "--scene " + k_room + " --rays " + rays + " --hits " + hits;
+  const std::string dump = "--scene " + k_room + " --width 8 --height 8 --dump-hits " + hits;
+  const std::string bench = "--width 8 --height 8 --frames 1 --benchmark " + k_room;
+  const rt::testing::RefusedInput cases[] = {
+      {ray_query + " --output " + image, 2, "--output does nothing with --rays"},
+      {ray_query + " -o " + image, 2, "--output does nothing with --rays"},
+      {ray_query + " --image-only", 2, "--image-only does nothing with --rays"},
+      {ray_query + " --reference-rays 8", 2, "--reference-rays does nothing with --rays"},
+      {ray_query + " --json " + json, 2, "--json does nothing with --rays"},
+      {dump + " --json " + json, 2, "--json does nothing with --dump-hits"},
+      {dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
+      {bench + " --reference-rays 8", 2, "--reference-rays does nothing with --benchmark"},
+      {bench + " --image-only", 2, "--image-only does nothing with --benchmark"},
+      {bench + " --target 0,0,0", 2, "--target does nothing with --benchmark"},
+      {"--benchmark --scene " + k_room + " --models " + folder.string(), 2,
+       "--scene does nothing with --benchmark"},
+      {"--image-only --tracer wide8 --output " + image, 2,
+       "--tracer does nothing with --image-only"},
+  };
+  rt::testing::check_refused(run_program, cases);
+  const rt::testing::RefusedInput window_cases[] = {
+      {bench, 2, "--window does nothing with --benchmark"},
+      {dump, 2, "--window does nothing with --dump-hits"},
+      {"--tracer wide8", 2, "--tracer does nothing with --window"},
+      {"--skip-cpu", 2, "--skip-cpu does nothing with --window"},
+  };
+  rt::testing::check_refused_with_window(RT_CH09_PROGRAM, window_cases);
 }
