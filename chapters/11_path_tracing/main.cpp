@@ -162,7 +162,7 @@ int run(ChapterOptions& options) {
     const SamplesTaken taken =
         add_image_samples(r, options.settings, options.spp, options.seconds);
     if (options.seconds > 0.0) {
-      const std::string text = group_digits(taken.samples) + " per pixel in " +
+      const std::string text = group_digits(taken.samples) + " samples per pixel in " +
                                format_fixed(taken.seconds, 1) + " s (--seconds)";
       std::cout << "rendered " << text << "\n";
       report.add_context("image samples", text);

@@ -186,7 +186,7 @@ TEST_CASE("program: --seconds renders until the time is up and says how many sam
                                      pfm.string());
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
-  CHECK_THAT(run.output, contains(" per pixel in "));
+  CHECK_THAT(run.output, contains("rendered ") && contains(" samples per pixel in "));
   CHECK(read_pfm(pfm).rgb.size() == 16 * 12);
 }
 
