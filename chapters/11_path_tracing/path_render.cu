@@ -1,4 +1,8 @@
 // Chapter 11: the megakernel, the tone map and the progressive renderer. See path_render.h.
+// Compiled with -fmad=false (CMakeLists.txt), as chapter 07's protocol_gpu.cu is: no a * b + c
+// is fused on the GPU, as none is on the CPU, so both backends trace the same paths bit for
+// bit.
+#define RT_NO_CONTRACTION 1
 #include "path_render.h"
 
 #include <cmath>

@@ -1,11 +1,11 @@
-// Chapter 11: the sampling a Lambertian path tracer needs: an orthonormal basis around a
-// normal, cosine-weighted directions, uniform points on triangles, and the power heuristic
-// that weights two strategies for the same light (Veach 1997, chapter 9).
+// Chapter 11: the sampling a Lambertian path tracer needs: cosine-weighted directions (chapter
+// 07's), uniform points on triangles, and the power heuristic that weights two strategies for
+// the same light (Veach 1997, chapter 9).
 #pragma once
 
-#include <cmath>
 #include <numbers>
 
+#include "cosine_sampling.h"
 #include "rt/scalar.h"
 #include "rt/vec.h"
 
@@ -13,38 +13,25 @@ namespace rt::ch11 {
 
 inline constexpr float k_pi = std::numbers::pi_v<float>;
 
-// Two unit vectors that make a right-handed frame with the unit normal n, without a branch
-// on which axis n is nearest (Duff et al. 2017, "Building an orthonormal basis, revisited").
-struct Frame {
-  Vec3f tangent, bitangent, normal;
-  RT_HD Vec3f to_world(Vec3f local) const {
-    return tangent * local.x + bitangent * local.y + normal * local.z;
-  }
+// The density per solid angle of a cosine-weighted direction at angle theta to the normal:
+// cos(theta) / pi above the surface, nothing below it.
+RT_HD inline float cosine_density(float cosine) { return cosine > 0.0f ? cosine / k_pi : 0.0f; }
+
+// A direction drawn by a sampler and its density per solid angle.
+struct DirectionSample {
+  Vec3f direction; // unit
+  float pdf;
 };
 
-RT_HD inline Frame frame_around(Vec3f n) {
-  const float sign = n.z >= 0.0f ? 1.0f : -1.0f;
-  const float a = -1.0f / (sign + n.z);
-  const float b = n.x * n.y * a;
-  return {
-      {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x}, {b, sign + n.y * n.y * a, -n.y}, n};
-}
-
 // [listing:cosine_sample]
-// A direction about +z with density cos(theta) / pi: a uniform point on the unit disc
-// (radius sqrt(u), angle 2 pi v) lifted onto the hemisphere (Malley's method). For a
-// Lambertian surface of albedo a, f cos / pdf = (a / pi) cos / (cos / pi) = a: every sample
-// carries the albedo and nothing else.
-RT_HD inline Vec3f cosine_direction(float u, float v) {
-  const float r = square_root(u);
-  float sine, cosine;
-#if RT_ON_DEVICE
-  sincospif(2.0f * v, &sine, &cosine); // sin(pi x), without cosf's slow path for huge x
-#else
-  sine = std::sin(2.0f * k_pi * v);
-  cosine = std::cos(2.0f * k_pi * v);
-#endif
-  return {r * cosine, r * sine, square_root(max_of(0.0f, 1.0f - u))};
+// The bounce of a Lambertian surface: chapter 07's cosine-weighted direction about the unit
+// normal n, the protocol's secondary rays (Duff's frame, Malley's method, the course's own
+// sine and cosine), so the CPU and the GPU draw the same bits. For a surface of albedo a,
+// f cos / pdf = (a / pi) cos / (cos / pi) = a: every sample carries the albedo and nothing
+// else.
+RT_UNFUSED_HD inline DirectionSample sample_cosine(Vec3f n, float u, float v) {
+  const Vec3f local = ch07::cosine_direction_about_z(u, v); // its z is cos(theta)
+  return {ch07::turn_to_normal(n, local), cosine_density(local.z)};
 }
 // [/listing:cosine_sample]
 

@@ -2,7 +2,9 @@
 // shade_vertex is the whole physics: it adds what the path sees at a hit (emission, weighted
 // by multiple importance sampling), prepares the shadow rays of next-event estimation, and
 // either ends the path or bounces it. The megakernel loops over it per pixel; the wavefront
-// variant (wavefront.h) runs the same function as one stage of several.
+// variant (wavefront.h) runs the same function as one stage of several. A kernel that runs it
+// is compiled with -fmad=false and defines RT_NO_CONTRACTION (chapter 07's cosine_sampling.h),
+// so the GPU and the CPU trace the same paths bit for bit.
 #pragma once
 
 #include <limits>
@@ -42,6 +44,10 @@ enum class Strategy : int {
 // Russian roulette starts at this vertex: the first bounces are always traced, where paths
 // carry the most light and ending them would add the most variance.
 inline constexpr int k_roulette_from_vertex = 3;
+// A path survives roulette with the probability of its throughput's largest channel, capped
+// here: one between white walls, whose throughput stays near 1, still ends after about 20
+// more surfaces.
+inline constexpr float k_roulette_max_survival = 0.95f;
 
 // The tree paths are traced through: chapter 09's 4-wide tree with 40-byte triangles, the one
 // that met all of that chapter's GPU targets (speed and at most 64 bytes per triangle).
@@ -89,26 +95,30 @@ RT_HD inline float number(const PathState& path, unsigned dimension) {
   return sample_number(path.pixel, path.sample, unsigned(path.vertex), dimension);
 }
 
-// The camera ray through a random point of pixel (x, y) (vertex 0's two numbers): chapter
-// 03's camera formula with the pixel centre's 0.5 replaced by the random offset.
-RT_HD inline PathState start_path(const ch03::Camera<float>& camera, int x, int y,
-                                  unsigned sample) {
-  PathState path{};
-  path.pixel = unsigned(y * camera.pinhole.width + x);
-  path.sample = sample;
-  const float jx = number(path, 0) - 0.5f, jy = number(path, 1) - 0.5f;
+// The camera ray through the point (jx, jy) away from the centre of pixel (x, y), jx and jy
+// in [-0.5, 0.5): chapter 03's camera formula with the pixel centre moved.
+RT_HD inline RayF camera_ray_jittered(const ch03::Camera<float>& camera, int x, int y, float jx,
+                                      float jy) {
   const auto& c = camera.pinhole;
   const float sx =
       (2.0f * (float(x) + 0.5f + jx) / float(c.width) - 1.0f) * c.tan_half_vfov * c.aspect;
   const float sy = (1.0f - 2.0f * (float(y) + 0.5f + jy) / float(c.height)) * c.tan_half_vfov;
   if (camera.kind == ch03::CameraKind::pinhole) {
     const Vec3f d = c.basis.right * sx + c.basis.up * sy + c.basis.forward;
-    path.ray = {c.eye, normalize(d)};
-  } else {
-    const auto& o = camera.orthographic;
-    const float scale = o.half_height / c.tan_half_vfov;
-    path.ray = {o.eye + (o.basis.right * sx + o.basis.up * sy) * scale, o.basis.forward};
+    return {c.eye, normalize(d)};
   }
+  const auto& o = camera.orthographic;
+  const float scale = o.half_height / c.tan_half_vfov;
+  return {o.eye + (o.basis.right * sx + o.basis.up * sy) * scale, o.basis.forward};
+}
+
+// The camera ray through a uniform random point of pixel (x, y) (vertex 0's two numbers).
+RT_HD inline PathState start_path(const ch03::Camera<float>& camera, int x, int y,
+                                  unsigned sample) {
+  PathState path{};
+  path.pixel = unsigned(y * camera.pinhole.width + x);
+  path.sample = sample;
+  path.ray = camera_ray_jittered(camera, x, y, number(path, 0) - 0.5f, number(path, 1) - 0.5f);
   path.throughput = {1.0f, 1.0f, 1.0f};
   return path;
 }
@@ -125,6 +135,28 @@ RT_HD inline int pick_light(const PathSceneView& s, float u) {
       lo = mid + 1;
   }
   return s.light_triangles[lo];
+}
+
+// A point on an emitter, drawn by next-event estimation.
+struct LightPoint {
+  int triangle;            // the mesh's triangle number
+  ch04::TriangleF corners; // its corners
+  Vec3f point;             // uniform on it
+};
+
+// The light table's emitter for u_pick, then a uniform point on it for (u, v).
+RT_HD inline LightPoint sample_light_point(const PathSceneView& s, float u_pick, float u,
+                                           float v) {
+  const int light = pick_light(s, u_pick);
+  const ch04::TriangleF t = s.mesh.triangle(light);
+  return {light, t, point_on_triangle(t.v0, t.v1, t.v2, u, v)};
+}
+
+// The density per unit area of sample_light_point's points on an emitter of emission
+// `emission`: its triangle is picked with probability area * luminance / power and the point
+// is uniform on its area, so the area cancels.
+RT_HD inline float light_area_density(const PathSceneView& s, Vec3f emission) {
+  return luminance(emission) / s.light_power;
 }
 
 // The unit normal of a triangle's front face, the side from which its corners run
@@ -163,13 +195,13 @@ RT_HD inline Vec3f facing_normal(const ch04::TriangleF& t, Vec3f side) {
 // f cos_p Le / pdf, with f = a / pi and pdf the density of q's direction per solid angle,
 // (lum(Le) / power) * d^2 / cos_q; under MIS it is weighted against the density with which
 // the cosine-weighted bounce would have found the same direction.
-template <class F>
-RT_HD void sample_emitter(const PathSceneView& s, const PathState& path, Vec3f origin, Vec3f n,
-                          Vec3f albedo, Strategy strategy, ShadowRays& shadows) {
-  const int light = pick_light(s, number(path, k_light_pick));
-  const ch04::TriangleF t = s.mesh.triangle(light);
-  const Vec3f q =
-      point_on_triangle(t.v0, t.v1, t.v2, number(path, k_light_u), number(path, k_light_v));
+RT_HD inline void sample_emitter(const PathSceneView& s, const PathState& path, Vec3f origin,
+                                 Vec3f n, Vec3f albedo, Strategy strategy,
+                                 ShadowRays& shadows) {
+  const LightPoint light = sample_light_point(s, number(path, k_light_pick),
+                                              number(path, k_light_u), number(path, k_light_v));
+  const ch04::TriangleF& t = light.corners;
+  const Vec3f q = light.point;
   const Vec3f n_light = front_normal(t, origin - q); // emitters emit from their front
   const Vec3f target = spawn_origin(q, n_light, t);  // off the emitter, in front
   const Vec3f to_light = target - origin;
@@ -178,10 +210,10 @@ RT_HD void sample_emitter(const PathSceneView& s, const PathState& path, Vec3f o
   const float cos_p = dot(n, to_light) / distance;
   const float cos_q = dot(n_light, -to_light) / distance;
   if (!(cos_p > 0.0f && cos_q > 0.0f)) return; // behind the surface, or seen edge-on
-  const Vec3f emission = s.materials[s.material[light]].emission;
-  const float pdf_light = luminance(emission) / s.light_power * distance_squared / cos_q;
+  const Vec3f emission = s.materials[s.material[light.triangle]].emission;
+  const float pdf_light = light_area_density(s, emission) * distance_squared / cos_q;
   const float weight =
-      strategy == Strategy::mis ? power_heuristic(pdf_light, cos_p / k_pi) : 1.0f;
+      strategy == Strategy::mis ? power_heuristic(pdf_light, cosine_density(cos_p)) : 1.0f;
   const int k = shadows.count++;
   shadows.ray[k] = {origin, to_light, 0.0f, 1.0f}; // the emitter sits at t = 1
   shadows.contribution[k] =
@@ -213,7 +245,7 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
       if (path.bsdf_pdf > 0.0f && strategy == Strategy::light) weight = 0.0f;
       if (path.bsdf_pdf > 0.0f && strategy == Strategy::mis) {
         const float cos_q = absolute(dot(n, d));
-        const float pdf_light = luminance(m.emission) / s.light_power * hit.t * hit.t / cos_q;
+        const float pdf_light = light_area_density(s, m.emission) * hit.t * hit.t / cos_q;
         weight = power_heuristic(path.bsdf_pdf, pdf_light);
       }
       path.radiance += path.throughput * m.emission * weight;
@@ -231,19 +263,20 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
   }
   if constexpr (F::compiled(k_emitters))
     if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0)
-      sample_emitter<F>(s, path, origin, n, m.albedo, strategy, shadows);
+      sample_emitter(s, path, origin, n, m.albedo, strategy, shadows);
   // The bounce: cosine-weighted, so the throughput is multiplied by the albedo alone.
-  const Vec3f local = cosine_direction(number(path, k_bsdf_u), number(path, k_bsdf_v));
+  const DirectionSample bounce =
+      sample_cosine(n, number(path, k_bsdf_u), number(path, k_bsdf_v));
   path.throughput = path.throughput * m.albedo;
   if (path.vertex >= k_roulette_from_vertex) {
-    const float survive = min_of(max_component(path.throughput), 0.95f);
+    const float survive = min_of(max_component(path.throughput), k_roulette_max_survival);
     if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
     path.throughput = path.throughput / survive;
   } else if (!(max_component(path.throughput) > 0.0f)) {
     return false; // a black surface: nothing more can come back
   }
-  path.ray = {origin, frame_around(n).to_world(local)};
-  path.bsdf_pdf = local.z / k_pi;
+  path.ray = {origin, bounce.direction};
+  path.bsdf_pdf = bounce.pdf;
   return true;
 }
 // [/listing:shade_vertex]

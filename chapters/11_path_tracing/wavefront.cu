@@ -1,4 +1,6 @@
-// Chapter 11: the wavefront path tracer's stages. See wavefront.h.
+// Chapter 11: the wavefront path tracer's stages. See wavefront.h. Compiled with -fmad=false,
+// as path_render.cu is (CMakeLists.txt): the GPU's stages trace the CPU's paths bit for bit.
+#define RT_NO_CONTRACTION 1
 #include "wavefront.h"
 
 #include <algorithm>

@@ -1,7 +1,8 @@
 // Chapter 11 tests of light transport against what is known exactly: the white furnace
 // (radiance Le / (1 - a) inside a closed emitting sphere, whatever the strategy), a disc and a
 // sphere lighting a floor (E = pi Le sin^2 theta, pi Le (R / d)^2), a sun and a sky on a floor;
-// and the pieces the estimators are made of: the random numbers, the sampling, the light table.
+// and the pieces the estimators are made of: the random numbers, the power heuristic, the light
+// table. The samplers' densities are tested in test_ch11_sampling.cpp.
 #include <cmath>
 #include <set>
 
@@ -118,26 +119,6 @@ TEST_CASE("sample numbers: from 0 up to 1, different for each coordinate", "[ch1
   const int n = 100000;
   for (int i = 0; i < n; ++i) sum += sample_number(unsigned(i), 7u, 2u, k_bsdf_u);
   CHECK(sum / n == Approx(0.5).margin(0.005));
-}
-
-TEST_CASE("cosine directions are unit and above the surface, frames orthonormal", "[ch11]") {
-  double mean_cosine = 0.0;
-  const int n = 16384;
-  for (int i = 0; i < n; ++i) {
-    const Vec3f d = cosine_direction(sample_number(1, unsigned(i), 1, 0),
-                                     sample_number(1, unsigned(i), 1, 1));
-    CHECK(length(d) == Approx(1.0f).epsilon(1e-5));
-    CHECK(d.z >= 0.0f);
-    mean_cosine += d.z / n;
-  }
-  CHECK(mean_cosine == Approx(2.0 / 3.0).margin(0.01)); // E[cos] under cos / pi
-  for (const Vec3f axis : {Vec3f{0, 0, 1}, Vec3f{0, 0, -1}, normalize(Vec3f{1, -2, 0.1f})}) {
-    const Frame f = frame_around(axis);
-    CHECK(dot(f.tangent, f.bitangent) == Approx(0.0f).margin(1e-6));
-    CHECK(dot(f.tangent, axis) == Approx(0.0f).margin(1e-6));
-    CHECK(length(f.tangent) == Approx(1.0f).epsilon(1e-6));
-    CHECK(length(f.bitangent) == Approx(1.0f).epsilon(1e-6));
-  }
 }
 
 TEST_CASE("power heuristic: the two strategies' weights add to one", "[ch11]") {

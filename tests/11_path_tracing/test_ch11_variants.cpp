@@ -123,8 +123,8 @@ TEST_CASE("rays spawned from every triangle of the room never hit it again, at a
                                           sample_number(i, k, 1, 1));
         for (const float side : {1.0f, -1.0f}) { // both faces reflect
           const Vec3f n = front_normal(t, {0, 1, 0}) * side;
-          const Vec3f d = frame_around(n).to_world(
-              cosine_direction(sample_number(i, k, 1, 2), sample_number(i, k, 1, 3)));
+          const Vec3f d =
+              sample_cosine(n, sample_number(i, k, 1, 2), sample_number(i, k, 1, 3)).direction;
           const ch07::TraceHit hit =
               ch09::trace_wide<Query::closest>(tree.view(), {spawn_origin(p, n, t), d});
           self_hits += hit.triangle == i ? 1 : 0;
