@@ -129,8 +129,9 @@ int run(ChapterOptions& options) {
       .chapter = "ch07",
       .window_title = "bounding volume hierarchy",
       .camera = camera,
-      .render =
-          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+      .render_with_radiance =
+          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels,
+              Vec3f* radiance) {
             if (!bvh) bvh.emplace(build_bvh(scene.mesh, options.build));
             if (b == Backend::gpu && !d_scene) {
               d_scene.emplace(scene, features);
@@ -142,7 +143,8 @@ int run(ChapterOptions& options) {
             const auto frame_camera = ch03::make_camera<float>(spec, extent);
             if (options.heat_map)
               return render_node_heat_map(b, view.mesh.bvh, frame_camera, extent, pixels);
-            render_bvh_shaded(b, features, view, frame_camera, extent, pixels);
+            render_bvh_shaded(b, features, view, frame_camera, extent, pixels, nullptr,
+                              radiance);
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {
@@ -204,6 +206,8 @@ int main(int argc, char** argv) {
   return ch03::run_program_main(app, argc, argv, options, [&] {
     check_query_options(options.query, options, app, k_chapter_flags);
     check_chapter_flags(options, app);
+    if (options.heat_map && is_linear_image_path(options.common.output))
+      throw UsageError("--heat-map draws node counts, not radiance: write it as a .png");
     return run(options);
   });
 }

@@ -133,8 +133,9 @@ int run(ChapterOptions& options) {
       .window_title = "memory spaces",
       .camera = camera,
       // Chapter 06's shading, smooth normals and shadows, through the kept path.
-      .render =
-          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+      .render_with_radiance =
+          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels,
+              Vec3f* radiance) {
             if (!bvh) {
               bvh.emplace(ch07::build_bvh(scene.mesh, {}));
               packed.emplace(pack_bvh(*bvh));
@@ -148,7 +149,7 @@ int run(ChapterOptions& options) {
                     ? ch07::with_bvh(d_scene->view(), d_trees->kept())
                     : ch07::with_bvh(ch06::host_view(scene, features), host_kept_view(*packed));
             render_kept_shaded(b, features, view, ch03::make_camera<float>(spec, extent),
-                               extent, pixels);
+                               extent, pixels, nullptr, radiance);
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {

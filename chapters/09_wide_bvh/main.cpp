@@ -129,8 +129,9 @@ int run(ChapterOptions& options) {
       .chapter = "ch09",
       .window_title = "wide compressed tree",
       .camera = camera,
-      .render =
-          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+      .render_with_radiance =
+          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels,
+              Vec3f* radiance) {
             if (!tree) tree.emplace(compress(build_wide_layout(scene.mesh, 8, Collapse::sah)));
             if (b == Backend::gpu && !d_scene) {
               d_scene.emplace(scene, features);
@@ -140,7 +141,7 @@ int run(ChapterOptions& options) {
                 d_scene ? with_wide(d_scene->view(), d_tree->view())
                         : with_wide(ch06::host_view(scene, features), tree->view());
             render_wide_shaded(b, features, view, ch03::make_camera<float>(spec, extent),
-                               extent, pixels);
+                               extent, pixels, nullptr, radiance);
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {

@@ -140,8 +140,9 @@ int run(ChapterOptions& options) {
       .chapter = "ch10",
       .window_title = "a tree built on the GPU",
       .camera = camera,
-      .render =
-          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
+      .render_with_radiance =
+          [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels,
+              Vec3f* radiance) {
             if (!tree) tree = build_tree(Builder::lbvh, b, scene.mesh).bvh;
             if (b == Backend::gpu && !d_scene) {
               d_scene.emplace(scene, features);
@@ -151,7 +152,7 @@ int run(ChapterOptions& options) {
                 d_scene ? ch07::with_bvh(d_scene->view(), d_tree->view())
                         : ch07::with_bvh(ch06::host_view(scene, features), tree->view());
             ch07::render_bvh_shaded(b, features, view, ch03::make_camera<float>(spec, extent),
-                                    extent, pixels);
+                                    extent, pixels, nullptr, radiance);
           },
       .window_row =
           [&](const ch03::WindowResult& shown) {
@@ -219,6 +220,8 @@ int main(int argc, char** argv) {
       throw UsageError("--update, --detail and --animation-csv go with --moving");
     if (options.moving && (options.query.benchmark || options.query.query()))
       throw UsageError("--moving runs alone: not with --benchmark, --rays or --dump-hits");
+    if (options.moving && is_linear_image_path(options.common.output))
+      throw UsageError("--moving writes its last frame as a picture: give --output a .png");
     options.moving_model = options.moving && app.count("--scene") > 0;
     return run(options);
   });

@@ -14,6 +14,7 @@
 
 #include "rt_catch.h"
 
+#include "image_files.h"
 #include "run_program.h"
 #include "shading_cases.h"
 
@@ -603,5 +604,31 @@ TEST_CASE("program: a run that fails on one output replaces none of the others",
   const ProgramRun misnamed = run_program("--json " + (folder / "report.png").string());
   CHECK(misnamed.exit_code == 2);
   CHECK(rt::testing::line_count(misnamed.output) == 1);
+  std::filesystem::remove_all(folder);
+}
+
+TEST_CASE("program: .pfm and .exr hold the shading's linear values, the PNG their picture",
+          "[ch06]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch06_linear");
+  const std::string size = "--width 24 --height 16 --image-only --output ";
+  for (const char* name : {"frame.png", "frame.pfm", "frame.exr"}) {
+    const ProgramRun run = run_program(size + (folder / name).string());
+    CAPTURE(run.output);
+    REQUIRE(run.exit_code == 0);
+  }
+  const Image png = rt::testing::read_png(folder / "frame.png");
+  const LinearImage pfm = rt::testing::read_pfm(folder / "frame.pfm");
+  const LinearImage exr = rt::testing::read_exr(folder / "frame.exr");
+  REQUIRE(pfm.rgb.size() == png.pixels.size());
+  CHECK(exr.rgb == pfm.rgb);
+  // The picture is the linear values through the chapter's curve (square root, clipped), so
+  // the files agree pixel for pixel; the 8-bit values themselves (v / 255) would not.
+  int lit = 0;
+  for (std::size_t i = 0; i < pfm.rgb.size(); ++i) {
+    CAPTURE(i, pfm.rgb[i].x, png.pixels[i].r);
+    CHECK(ch03::to_rgba8(pfm.rgb[i]) == png.pixels[i]);
+    lit += pfm.rgb[i].x > 0.0f ? 1 : 0;
+  }
+  CHECK(lit > 0);
   std::filesystem::remove_all(folder);
 }

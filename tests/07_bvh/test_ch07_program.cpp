@@ -240,3 +240,12 @@ TEST_CASE("the Embree comparison refuses a --json it cannot write before the wor
   CHECK_THAT(run.output, contains("report.json"));
 }
 #endif
+
+TEST_CASE("program: the heat map is a picture of counts, refused as linear radiance",
+          "[ch07]") {
+  const rt::testing::RefusedInput cases[] = {
+      {"--heat-map --output counts.exr", 2, "--heat-map draws node counts"},
+      {"--heat-map --output counts.pfm", 2, "--heat-map draws node counts"},
+  };
+  rt::testing::check_refused(run_program, cases);
+}

@@ -197,3 +197,11 @@ TEST_CASE("program: a flag that does nothing in the mode asked for is refused", 
   };
   rt::testing::check_refused_with_window(RT_CH10_PROGRAM, window_cases);
 }
+
+TEST_CASE("program: the moving scene's last frame is a picture, refused as linear radiance",
+          "[ch10]") {
+  const rt::testing::RefusedInput cases[] = {
+      {"--moving --output last.exr", 2, "--moving writes its last frame as a picture"},
+  };
+  rt::testing::check_refused(run_program, cases);
+}
