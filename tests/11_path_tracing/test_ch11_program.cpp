@@ -4,7 +4,6 @@
 // the loader's warnings shown; a black image, a scene without light and flags the run would
 // not read are never silent; long work says how far it has come; bad input ends in one error
 // line and a non-zero exit.
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -13,11 +12,11 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
-#include <tinyexr.h>
 
 #include "rt_catch.h"
 
 #include "animation.h"
+#include "image_files.h"
 #include "path_cases.h"
 #include "path_report.h"
 #include "run_program.h"
@@ -26,46 +25,13 @@ namespace {
 
 using rt::testing::contains;
 using rt::testing::ProgramRun;
+using rt::testing::read_exr;
+using rt::testing::read_pfm;
 namespace fs = std::filesystem;
 
 const rt::testing::HeadlessCpuProgram run_program(RT_CH11_PROGRAM);
 
 void write_text(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
-
-// A PFM file's pixels, row 0 at the top (the file holds the bottom row first).
-rt::LinearImage read_pfm(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string magic;
-  rt::LinearImage image;
-  double scale = 0.0;
-  in >> magic >> image.width >> image.height >> scale;
-  in.get();
-  REQUIRE(magic == "PF");
-  REQUIRE(scale < 0.0); // little-endian
-  std::vector<float> data(std::size_t(image.width) * image.height * 3);
-  in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * sizeof(float)));
-  REQUIRE(in);
-  for (int y = image.height - 1; y >= 0; --y)
-    for (int x = 0; x < image.width; ++x) {
-      const float* p = &data[3 * (std::size_t(y) * image.width + x)];
-      image.rgb.push_back({p[0], p[1], p[2]});
-    }
-  return image;
-}
-
-// An EXR file's pixels (tinyexr's LoadEXR), row 0 at the top.
-rt::LinearImage read_exr(const fs::path& path) {
-  float* rgba = nullptr;
-  rt::LinearImage image;
-  const char* error = nullptr;
-  const int result = LoadEXR(&rgba, &image.width, &image.height, path.c_str(), &error);
-  if (error != nullptr) FreeEXRErrorMessage(error);
-  REQUIRE(result == TINYEXR_SUCCESS);
-  for (int i = 0; i < image.width * image.height; ++i)
-    image.rgb.push_back({rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]});
-  std::free(rgba);
-  return image;
-}
 
 // A scene file of one material `lamp` (the MTL text) on a quad of side 20 in the plane z = 0,
 // facing +z: seen from (0, 0, 1), it fills any image.
