@@ -7,6 +7,7 @@
 
 #include "rt/cuda_check.h"
 #include "rt/error.h"
+#include "rt/kernel_info.h"
 #include "rt/launch.h"
 
 namespace rt::ch06 {
@@ -16,18 +17,15 @@ using FrameLaunch = FrameLaunchOf<SceneView>;
 
 // [listing:shade_kernel]
 // The chapter's own kernel rather than chapter 01's for_each_pixel: its address, one per
-// feature set, is what cudaFuncGetAttributes needs to report registers per thread.
+// feature set, is what rt::kernel_registers (rt/kernel_info.h) needs to report registers per
+// thread.
 template <class F> __global__ void shade_kernel(FrameLaunch frame, F features) {
   const int x = blockIdx.x * blockDim.x + threadIdx.x;
   const int y = blockIdx.y * blockDim.y + threadIdx.y;
   if (x < frame.extent.width && y < frame.extent.height) shade_pixel(frame, features, x, y);
 }
 
-template <class F> int registers_of() {
-  cudaFuncAttributes attributes{};
-  RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, shade_kernel<F>));
-  return attributes.numRegs;
-}
+template <class F> int registers_of() { return rt::kernel_registers(shade_kernel<F>); }
 // [/listing:shade_kernel]
 
 template <class F> void render_with(Backend backend, const FrameLaunch& frame, F features) {

@@ -7,6 +7,7 @@
 #include "model_render.h"
 #include "rt/cuda_check.h"
 #include "rt/error.h"
+#include "rt/kernel_info.h"
 #include "rt/launch.h"
 
 namespace rt::ch07 {
@@ -65,11 +66,9 @@ void trace_rays_gpu(Query query, TriangleVariant variant, const BvhView& bvh, co
 }
 
 int trace_kernel_registers(Query query, TriangleVariant variant) {
-  cudaFuncAttributes attributes{};
-  with_trace_kernel(query, variant, [&](auto kernel) {
-    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, kernel));
-  });
-  return attributes.numRegs;
+  int registers = 0;
+  with_trace_kernel(query, variant, [&](auto kernel) { registers = kernel_registers(kernel); });
+  return registers;
 }
 
 void brute_force_gpu(TriangleVariant variant, const ch04::MeshView& mesh, const RayF* rays,

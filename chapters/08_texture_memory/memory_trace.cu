@@ -5,6 +5,7 @@
 
 #include "rt/cuda_check.h"
 #include "rt/error.h"
+#include "rt/kernel_info.h"
 #include "rt/launch.h"
 #include "traverse.h"
 
@@ -166,11 +167,10 @@ void trace_rays_path_cpu(MemoryPath path, Query query, const Bvh& bvh, const Pac
 }
 
 int path_kernel_registers(MemoryPath path, Query query) {
-  cudaFuncAttributes attributes{};
-  with_path_kernel(path, query, nullptr, [&](auto kernel, auto) {
-    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, kernel));
-  });
-  return attributes.numRegs;
+  int registers = 0;
+  with_path_kernel(path, query, nullptr,
+                   [&](auto kernel, auto) { registers = kernel_registers(kernel); });
+  return registers;
 }
 
 const char* to_string(ConstantsIn where) {
@@ -203,12 +203,8 @@ void CameraTrace::launch(MeshHit* hits) const {
 }
 
 int CameraTrace::registers() const {
-  cudaFuncAttributes attributes{};
-  if (where_ == ConstantsIn::parameters)
-    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, camera_trace_kernel_parameters));
-  else
-    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, camera_trace_kernel_constant));
-  return attributes.numRegs;
+  return where_ == ConstantsIn::parameters ? kernel_registers(camera_trace_kernel_parameters)
+                                           : kernel_registers(camera_trace_kernel_constant);
 }
 
 } // namespace rt::ch08

@@ -7,6 +7,7 @@
 #include <cub/device/device_radix_sort.cuh>
 
 #include "rt/cuda_check.h"
+#include "rt/kernel_info.h"
 #include "rt/launch.h"
 #include "wide_traverse.h"
 
@@ -153,12 +154,6 @@ template <class View, class Fn> void with_sorted_kernel(Query query, Fn fn) {
     fn(wide_sorted_kernel<Query::any, View>);
 }
 
-template <class Kernel> int registers_of(Kernel kernel) {
-  cudaFuncAttributes attributes{};
-  RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, kernel));
-  return attributes.numRegs;
-}
-
 int query_slot(Query query) { return query == Query::closest ? 0 : 1; }
 
 } // namespace
@@ -174,7 +169,7 @@ void trace_wide_gpu(Query query, const View& tree, const RayF* rays, int count, 
 
 template <class View> int wide_kernel_registers(Query query) {
   int registers = 0;
-  with_wide_kernel<View>(query, [&](auto kernel) { registers = registers_of(kernel); });
+  with_wide_kernel<View>(query, [&](auto kernel) { registers = kernel_registers(kernel); });
   return registers;
 }
 
@@ -190,21 +185,15 @@ void trace_wide_gpu_shared_stack(Query query, const View& tree, const RayF* rays
 
 template <class View> int shared_stack_kernel_registers(Query query) {
   int registers = 0;
-  with_shared_stack_kernel<View>(query, [&](auto kernel) { registers = registers_of(kernel); });
+  with_shared_stack_kernel<View>(query,
+                                 [&](auto kernel) { registers = kernel_registers(kernel); });
   return registers;
 }
 
 template <class View> PersistentWideTracer<View>::PersistentWideTracer() : next_ray_(1) {
-  int device = 0, multiprocessors = 0;
-  RT_CUDA_CHECK(cudaGetDevice(&device));
-  RT_CUDA_CHECK(
-      cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device));
   for (const Query query : {Query::closest, Query::any})
     with_persistent_kernel<View>(query, [&](auto kernel) {
-      int per_multiprocessor = 0;
-      RT_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_multiprocessor, kernel,
-                                                                  k_block, 0));
-      resident_blocks_[query_slot(query)] = std::max(1, per_multiprocessor) * multiprocessors;
+      resident_blocks_[query_slot(query)] = resident_blocks(kernel, k_block);
     });
 }
 
@@ -228,7 +217,8 @@ void PersistentWideTracer<View>::trace(Query query, const View& tree, const RayF
 
 template <class View> int PersistentWideTracer<View>::registers(Query query) {
   int registers = 0;
-  with_persistent_kernel<View>(query, [&](auto kernel) { registers = registers_of(kernel); });
+  with_persistent_kernel<View>(query,
+                               [&](auto kernel) { registers = kernel_registers(kernel); });
   return registers;
 }
 
@@ -269,12 +259,12 @@ void SortedWideTracer<View>::trace(Query query, const View& tree, const RayF* ra
 
 template <class View> int SortedWideTracer<View>::registers(Query query) {
   int registers = 0;
-  with_sorted_kernel<View>(query, [&](auto kernel) { registers = registers_of(kernel); });
+  with_sorted_kernel<View>(query, [&](auto kernel) { registers = kernel_registers(kernel); });
   return registers;
 }
 
 template <class View> int SortedWideTracer<View>::key_kernel_registers() {
-  return registers_of(ray_key_kernel);
+  return kernel_registers(ray_key_kernel);
 }
 
 #define RT_CH09_GPU_LAYOUT(View)                                                               \

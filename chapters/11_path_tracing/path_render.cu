@@ -13,6 +13,7 @@
 #include "rt/backend_image.h"
 #include "rt/cuda_check.h"
 #include "rt/error.h"
+#include "rt/kernel_info.h"
 #include "wavefront.h"
 #include "wide_collapse.h"
 
@@ -158,12 +159,7 @@ __global__ void persistent_paths_kernel(PathSceneView scene, F features, Strateg
 // Blocks of the persistent kernel: as many as the GPU keeps resident at once.
 constexpr int k_persistent_threads = 128;
 template <class F> int persistent_blocks() {
-  int device = 0, sms = 0, per_sm = 0;
-  RT_CUDA_CHECK(cudaGetDevice(&device));
-  RT_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
-  RT_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(
-      &per_sm, persistent_paths_kernel<F>, k_persistent_threads, 0));
-  return sms * per_sm;
+  return resident_blocks(persistent_paths_kernel<F>, k_persistent_threads);
 }
 
 RT_HD inline float filmic(float x) { // Narkowicz 2015's fit of the ACES curve
@@ -234,13 +230,9 @@ int megakernel_registers(KernelKind kernel, unsigned features, PathVariant varia
   int registers = 0;
   with_kernel(kernel, features, [&](auto f) {
     using F = decltype(f);
-    cudaFuncAttributes attributes{};
-    if (variant == PathVariant::persistent)
-      RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, persistent_paths_kernel<F>));
-    else
-      RT_CUDA_CHECK(
-          cudaFuncGetAttributes(&attributes, for_each_pixel_kernel<MegakernelPixel<F>>));
-    registers = attributes.numRegs;
+    registers = variant == PathVariant::persistent
+                    ? kernel_registers(persistent_paths_kernel<F>)
+                    : kernel_registers(for_each_pixel_kernel<MegakernelPixel<F>>);
   });
   return registers;
 }

@@ -8,6 +8,7 @@
 #include "parallel.h"
 #include "path_dispatch.h"
 #include "rt/cuda_check.h"
+#include "rt/kernel_info.h"
 
 namespace rt::ch11 {
 
@@ -104,9 +105,7 @@ void read_counters(Backend backend, const unsigned* counters,
 int wavefront_registers(KernelKind kernel, unsigned features) {
   int registers = 0;
   const auto take = [&](auto kernel_function) {
-    cudaFuncAttributes attributes{};
-    RT_CUDA_CHECK(cudaFuncGetAttributes(&attributes, kernel_function));
-    registers = std::max(registers, attributes.numRegs);
+    registers = std::max(registers, kernel_registers(kernel_function));
   };
   with_kernel(kernel, features, [&](auto f) {
     take(ch10::for_each_index_kernel<Extend>);
