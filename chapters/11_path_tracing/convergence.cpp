@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "rt/cpu_progress.h"
-#include "rt/device_buffer.h"
+#include "rt/timer.h"
 
 namespace rt::ch11 {
 
@@ -66,22 +66,13 @@ std::vector<ConvergencePoint> measure_convergence(PathRenderer& renderer,
   for (int target = 1; target <= max_samples; target *= 2) {
     const int more = target - renderer.samples();
     const auto start = std::chrono::steady_clock::now();
-    if (renderer.backend() == Backend::gpu) {
-      CudaEvent begin, end;
-      begin.record();
-      renderer.add_samples(settings, more);
-      end.record();
-      end.synchronize();
-      kernel_ms += end.milliseconds_since(begin);
-    } else {
-      renderer.add_samples(settings, more);
-    }
+    BackendStopwatch kernels(renderer.backend());
+    renderer.add_samples(settings, more);
+    kernel_ms += kernels.milliseconds();
     renderer.synchronize();
-    const double step =
+    wall_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count();
-    wall_ms += step;
-    if (renderer.backend() == Backend::cpu) kernel_ms += step;
     points.push_back({target, wall_ms, kernel_ms,
                       image_error(renderer.mean_radiance(), reference.radiance),
                       renderer.non_finite()});

@@ -1,5 +1,6 @@
 // The report: an aligned table with every row, and JSON with the same rows.
 #include <sstream>
+#include <thread>
 
 #include "rt_catch.h"
 #include <nlohmann/json.hpp>
@@ -69,4 +70,25 @@ TEST_CASE("timing summary takes the median", "[common]") {
   const Timing t = time_cpu([&] { ++calls; }, {2, 9});
   CHECK(calls == 11);
   CHECK(t.runs == 9);
+}
+
+TEST_CASE("the backend clock measures from one mark to another on the CPU", "[common]") {
+  using namespace std::chrono_literals;
+  BackendClock clock(Backend::cpu, 3);
+  clock.mark(0);
+  std::this_thread::sleep_for(2ms); // the steady clock moves at least this far
+  clock.mark(1);
+  clock.mark(2);
+  CHECK(clock.milliseconds_between(0, 1) >= 2.0);
+  CHECK(clock.milliseconds_between(1, 1) == 0.0);
+  CHECK(clock.milliseconds_between(0, 2) >= clock.milliseconds_between(0, 1));
+  CHECK(clock.milliseconds_between(1, 0) <= -2.0);
+  CHECK_THROWS_AS(clock.mark(3), std::out_of_range);
+  CHECK_THROWS_AS(BackendClock(Backend::automatic, 2), Error);
+
+  BackendStopwatch stopwatch(Backend::cpu);
+  std::this_thread::sleep_for(2ms);
+  const double first = stopwatch.milliseconds();
+  CHECK(first >= 2.0);
+  CHECK(stopwatch.milliseconds() >= first); // every reading is from the start
 }

@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <vector>
 
 #include "rt/backend.h"
 #include "rt/device_buffer.h"
+#include "rt/error.h"
 
 namespace rt {
 
@@ -65,5 +67,52 @@ template <class Run> Timing time_on(Backend resolved, Run&& run, int frames = 0)
   const TimingPlan plan = timing_plan(resolved, frames);
   return resolved == Backend::gpu ? time_gpu(run, plan) : time_cpu(run, plan);
 }
+
+// Marks in a run of work on either resolved backend, and the milliseconds between two of them:
+// CUDA events on the GPU, which time the work enqueued on the default stream between the marks,
+// and the steady clock on the CPU, whose work is done when the call that marks returns.
+class BackendClock {
+public:
+  BackendClock(Backend resolved, int marks) : backend_(resolved), wall_(marks) {
+    if (resolved != Backend::gpu && resolved != Backend::cpu)
+      throw Error("BackendClock: resolve the backend first");
+    if (backend_ == Backend::gpu) {
+      events_ = std::vector<std::optional<CudaEvent>>(marks);
+      for (std::optional<CudaEvent>& event : events_) event.emplace();
+    }
+  }
+  void mark(int i) {
+    if (backend_ == Backend::gpu)
+      events_.at(i)->record();
+    else
+      wall_.at(i) = std::chrono::steady_clock::now();
+  }
+  // From mark a to mark b; on the GPU it first waits until the work before mark b is done.
+  double milliseconds_between(int a, int b) {
+    if (backend_ == Backend::gpu) {
+      events_.at(b)->synchronize();
+      return events_.at(b)->milliseconds_since(*events_.at(a));
+    }
+    return std::chrono::duration<double, std::milli>(wall_.at(b) - wall_.at(a)).count();
+  }
+
+private:
+  Backend backend_;
+  std::vector<std::optional<CudaEvent>> events_;            // the GPU's only
+  std::vector<std::chrono::steady_clock::time_point> wall_; // the CPU's only
+};
+
+// A BackendClock of two marks, the first made with it: the time of all the work since.
+class BackendStopwatch {
+public:
+  explicit BackendStopwatch(Backend resolved) : clock_(resolved, 2) { clock_.mark(0); }
+  double milliseconds() {
+    clock_.mark(1);
+    return clock_.milliseconds_between(0, 1);
+  }
+
+private:
+  BackendClock clock_;
+};
 
 } // namespace rt
