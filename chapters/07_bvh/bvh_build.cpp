@@ -30,16 +30,6 @@ namespace {
 
 constexpr int k_max_bins = 256;
 
-// Half the surface area, in double. Aabb::half_area multiplies floats, which overflows to
-// infinity once a box is wider than about 1.8e19 (the square root of the largest float); every
-// SAH cost is then inf / inf = NaN and the heuristic silently stops choosing. A double holds
-// the product of any two floats.
-double half_area_of(const Aabb& box) {
-  if (box.empty()) return 0.0;
-  const Vec3d e = box.hi.as<double>() - box.lo.as<double>();
-  return e.x * e.y + e.y * e.z + e.z * e.x;
-}
-
 // The chance that a ray through the parent box also enters the child box. A flat or
 // point-like parent has no area to divide by; a ray that touches it touches the child too.
 double area_ratio(double child_area, double parent_area) {

@@ -21,13 +21,6 @@ namespace {
 
 constexpr double k_inf = std::numeric_limits<double>::infinity();
 
-// Half the surface area, in double (a float product overflows for boxes wider than 1.8e19).
-double half_area(const Aabb& box) {
-  if (box.empty()) return 0.0;
-  const Vec3d e = box.hi.as<double>() - box.lo.as<double>();
-  return e.x * e.y + e.y * e.z + e.z * e.x;
-}
-
 // Chapter 07's tree as one entry per node and per leaf, parents before children. A subtree's
 // triangles are consecutive in chapter 07's leaf order: [first, first + count).
 struct Entry {
@@ -126,7 +119,7 @@ private:
 
   void price(int n) {
     const Entry& e = entries_[n];
-    const double area = half_area(e.box);
+    const double area = ch07::half_area_of(e.box);
     const double leaf =
         e.count <= k_max_leaf_triangles ? area * e.count * k_triangle_cost : k_inf;
     if (e.leaf()) {
@@ -177,8 +170,8 @@ Picks greedy_children(const std::vector<Entry>& entries, int n, int width) {
     int largest = -1;
     for (int k = 0; k < static_cast<int>(out.size()); ++k)
       if (!entries[out[k].entry].leaf() &&
-          (largest < 0 ||
-           half_area(entries[out[k].entry].box) > half_area(entries[out[largest].entry].box)))
+          (largest < 0 || ch07::half_area_of(entries[out[k].entry].box) >
+                              ch07::half_area_of(entries[out[largest].entry].box)))
         largest = k;
     if (largest < 0) break;
     const Entry& opened = entries[out[largest].entry];
@@ -228,7 +221,7 @@ public:
           out_.triangle_ids.push_back(binary_.triangle_ids[k]);
         }
         ++out_.stats.leaves;
-        sah_ += half_area(e.box) * e.count * k_triangle_cost;
+        sah_ += ch07::half_area_of(e.box) * e.count * k_triangle_cost;
       } else {
         n.meta[s] = interior_meta(s);
         n.imask = static_cast<std::uint8_t>(n.imask | (1u << s));
@@ -240,7 +233,7 @@ public:
     }
     out_.nodes[node] = n;
     children_ += static_cast<long long>(picks.size());
-    sah_ += half_area(n.box) * k_node_cost;
+    sah_ += ch07::half_area_of(n.box) * k_node_cost;
     for (const auto& [child, entry] : interior)
       emit(child, children_of(entry), children_of, depth + 1);
   }
@@ -300,7 +293,7 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method) {
   s.nodes = static_cast<int>(out.nodes.size());
   s.children_per_node = double(layout.children()) / double(s.nodes);
   s.triangles_per_leaf = double(out.triangles.size()) / double(std::max(1, s.leaves));
-  const double root_area = half_area(binary.bounds);
+  const double root_area = ch07::half_area_of(binary.bounds);
   s.sah_cost = root_area > 0.0 ? layout.sah() / root_area : layout.sah();
   s.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
