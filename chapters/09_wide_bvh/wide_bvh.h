@@ -166,9 +166,20 @@ template <class Node> __device__ Node load_node(const Node* p) {
 }
 #endif
 
+// An int's bits as a float, ch08::bits_as_int's inverse: the id rides in a coordinate's lane.
+RT_HD inline float int_bits_as_float(int i) {
+#if defined(__CUDA_ARCH__)
+  return __int_as_float(i);
+#else
+  float f;
+  std::memcpy(&f, &i, sizeof f);
+  return f;
+#endif
+}
+
 // [listing:triangle_stores]
-// The triangles in the order of the leaves, as the traversal reads them: 36 bytes of
-// coordinates and the mesh's 4-byte id, in one of two layouts.
+// The triangles in the order of the leaves, as the traversal reads them and every builder
+// writes them: 36 bytes of coordinates and the mesh's 4-byte id, in one of two layouts.
 //
 // Chapter 08's records, 48 bytes: three 16-byte loads, 8 bytes of padding.
 //   record 0: v0.x v0.y v0.z id    record 1: v1.x v1.y v1.z -    record 2: v2.x v2.y v2.z -
@@ -179,6 +190,11 @@ struct AlignedTriangles {
     return ch08::triangle_from_records(r[0], r[1], r[2]);
   }
   RT_HD static int id(const Record* r) { return ch08::bits_as_int(r[0].w); }
+  RT_HD static void write(Record* r, const TriangleF& t, int id) {
+    r[0] = {t.v0.x, t.v0.y, t.v0.z, int_bits_as_float(id)};
+    r[1] = {t.v1.x, t.v1.y, t.v1.z, 0.0f};
+    r[2] = {t.v2.x, t.v2.y, t.v2.z, 0.0f};
+  }
 };
 
 // The same 40 bytes without the padding: five 8-byte loads.
@@ -191,6 +207,13 @@ struct PackedTriangles {
     return {{a.x, a.y, b.x}, {c.x, c.y, d.x}, {d.y, e.x, e.y}};
   }
   RT_HD static int id(const Record* r) { return ch08::bits_as_int(r[1].y); }
+  RT_HD static void write(Record* r, const TriangleF& t, int id) {
+    r[0] = {t.v0.x, t.v0.y};
+    r[1] = {t.v0.z, int_bits_as_float(id)};
+    r[2] = {t.v1.x, t.v1.y};
+    r[3] = {t.v1.z, t.v2.x};
+    r[4] = {t.v2.y, t.v2.z};
+  }
 };
 // [/listing:triangle_stores]
 

@@ -10,30 +10,14 @@
 namespace rt::ch09 {
 namespace {
 
-// The triangle records of wide_bvh.h's two stores, in the leaves' order.
-void append_records(std::vector<float4>& out, const TriangleF& t, float id) {
-  out.push_back({t.v0.x, t.v0.y, t.v0.z, id});
-  out.push_back({t.v1.x, t.v1.y, t.v1.z, 0.0f});
-  out.push_back({t.v2.x, t.v2.y, t.v2.z, 0.0f});
-}
-void append_records(std::vector<float2>& out, const TriangleF& t, float id) {
-  out.push_back({t.v0.x, t.v0.y});
-  out.push_back({t.v0.z, id});
-  out.push_back({t.v1.x, t.v1.y});
-  out.push_back({t.v1.z, t.v2.x});
-  out.push_back({t.v2.y, t.v2.z});
-}
-
 // The triangle records and the stats, the time since `start` added to the build's.
 template <class Node, class Triangles>
 void finish(WideTree<Node, Triangles>& tree, const WideLayout& layout,
             std::chrono::steady_clock::time_point start) {
-  tree.triangles.reserve(layout.triangles.size() * Triangles::k_records);
-  for (std::size_t k = 0; k < layout.triangles.size(); ++k) {
-    float id;
-    std::memcpy(&id, &layout.triangle_ids[k], sizeof id);
-    append_records(tree.triangles, layout.triangles[k], id);
-  }
+  tree.triangles.resize(layout.triangles.size() * Triangles::k_records);
+  for (std::size_t k = 0; k < layout.triangles.size(); ++k)
+    Triangles::write(&tree.triangles[k * Triangles::k_records], layout.triangles[k],
+                     layout.triangle_ids[k]);
   // The columns, padded so that a read of eight from any triangle stays inside.
   const int count = static_cast<int>(layout.triangles.size());
   tree.column_stride = (count + 2 * 8 - 1) / 8 * 8;

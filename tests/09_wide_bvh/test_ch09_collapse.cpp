@@ -306,3 +306,24 @@ TEST_CASE("a collapse refuses binary leaves too large for a wide leaf", "[ch09]"
       collapse(ch07::build_bvh(scene, binary_options(Collapse::sah, {})), 9, Collapse::sah),
       InputError);
 }
+
+TEST_CASE("both triangle stores read back the coordinates and id they were written with",
+          "[ch09]") {
+  const TriangleF triangle{{1.5f, -2.0f, 3.25f}, {-0.0f, 1e-30f, 7.0f}, {1e30f, -5.5f, 0.125f}};
+  const auto same_bits = [](const TriangleF& a, const TriangleF& b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+  };
+  for (const int id : {0, 1, 123456789, -1, 0x7fc00001, std::numeric_limits<int>::min()}) {
+    CAPTURE(id);
+    AlignedTriangles::Record aligned[AlignedTriangles::k_records];
+    AlignedTriangles::write(aligned, triangle, id);
+    CHECK(same_bits(AlignedTriangles::triangle(aligned), triangle));
+    CHECK(AlignedTriangles::id(aligned) == id);
+    PackedTriangles::Record packed[PackedTriangles::k_records];
+    PackedTriangles::write(packed, triangle, id);
+    CHECK(same_bits(PackedTriangles::triangle(packed), triangle));
+    CHECK(PackedTriangles::id(packed) == id);
+  }
+  static_assert(sizeof(PackedTriangles::Record) * PackedTriangles::k_records == 40);
+  static_assert(sizeof(AlignedTriangles::Record) * AlignedTriangles::k_records == 48);
+}
