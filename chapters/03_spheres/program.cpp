@@ -22,6 +22,15 @@ FrameRenderer frame_renderer(const ProgramParts& parts) {
   };
 }
 
+// The window's --output is a screenshot of what it showed: a picture, never linear values.
+// Refused before the window runs: at once for --window, once it opened for a window by default.
+void refuse_linear_screenshot(const ProgramOptions& options, bool window_open) {
+  if ((window_open || options.display.window) && options.common.frames > 0 &&
+      is_linear_image_path(options.common.output))
+    throw UsageError("the window's --output is a screenshot, a picture: give it a .png (the "
+                     "linear values come from a --headless run)");
+}
+
 } // namespace
 
 void add_program_options(CLI::App& app, ProgramOptions& options) {
@@ -45,6 +54,7 @@ int run_program_main(CLI::App& app, int argc, char** argv, ProgramOptions& optio
     options.width_given = given("--width");
     options.height_given = given("--height");
     // --image-only measures nothing, so there would be no report to write.
+    refuse_linear_screenshot(options, false);
     if (options.image_only && !options.common.json.empty())
       throw UsageError("--json writes the report, and --image-only makes none: give one");
     return body();
@@ -72,6 +82,7 @@ bool show_in_window(const ProgramOptions& options, Backend backend, const Progra
   const std::unique_ptr<ch02::Viewer> viewer =
       open_viewer(options.display, options.common.extent(), title);
   if (!viewer) return false;
+  refuse_linear_screenshot(options, true);
   report.add_context("mode", k_window_mode);
   for (const auto& [key, value] : parts.window_context) report.add_context(key, value);
   const WindowSettings settings{title, options.common.frames, parts.chapter + "_screenshot"};

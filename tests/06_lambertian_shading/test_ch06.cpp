@@ -632,3 +632,13 @@ TEST_CASE("program: .pfm and .exr hold the shading's linear values, the PNG thei
   CHECK(lit > 0);
   std::filesystem::remove_all(folder);
 }
+
+TEST_CASE("program: the window's screenshot is a picture, refused as a linear file", "[ch06]") {
+  // Refused before a window is asked for, so with a display or without.
+  const ProgramRun run = rt::testing::run_command(
+      std::string(RT_CH06_PROGRAM) + " --backend cpu --window --frames 2 --output shot.exr");
+  CAPTURE(run.output);
+  CHECK(run.exit_code == 2);
+  CHECK(rt::testing::line_count(run.output) == 1);
+  CHECK_THAT(run.output, rt::testing::contains("screenshot, a picture"));
+}
