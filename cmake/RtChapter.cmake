@@ -32,6 +32,31 @@ function(rt_add_chapter)
   endif()
 endfunction()
 
+# rt_chapter_program_files(): where a chapter's program finds its files, and its tests find
+# the program. The program gets the course's assets folder as RT_ASSETS_DIR (with MODELS also
+# models/, where tools/get-models.sh puts the benchmark set, as RT_MODELS_DIR: the models are
+# not part of the repository); the chapter's test executable, which runs the program and reads
+# its JSON report, gets the program's path as RT_CHnn_PROGRAM and the assets folder, and is
+# built after the program.
+#
+#   rt_chapter_program_files(NUMBER 09 SLUG wide_bvh MODELS)
+function(rt_chapter_program_files)
+  cmake_parse_arguments(ARG "MODELS" "NUMBER;SLUG" "" ${ARGN})
+  set(exe ch${ARG_NUMBER}_${ARG_SLUG})
+  set(test test_ch${ARG_NUMBER})
+  target_compile_definitions(${exe} PRIVATE RT_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")
+  if(ARG_MODELS)
+    target_compile_definitions(${exe} PRIVATE RT_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")
+  endif()
+  if(TARGET ${test})
+    target_compile_definitions(${test} PRIVATE
+      RT_CH${ARG_NUMBER}_PROGRAM="$<TARGET_FILE:${exe}>"
+      RT_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")
+    target_link_libraries(${test} PRIVATE nlohmann_json::nlohmann_json)
+    add_dependencies(${test} ${exe})
+  endif()
+endfunction()
+
 # rt_add_program(): one more program of a chapter, in <build>/bin beside the chapter's own.
 # With TEST and DEFINE, that test executable gets the program's path as the macro DEFINE and
 # is built after it (a test that runs the program).
