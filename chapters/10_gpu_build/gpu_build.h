@@ -21,6 +21,8 @@ struct GpuBuild {
   double build_ms = 0.0; // GPU: kernel time with CUDA events, the sort included; CPU: wall
   CodeWidth codes = CodeWidth::bits30; // the codes the tree was built from
   std::string note;                    // what the build had to do differently, if anything
+  int rounds = 0;          // PLOC: its clustering rounds (at most ploc_round_bound); else 0
+  int rounds_in_order = 0; // PLOC: those of them that paired the clusters in place order
 };
 
 // The LBVH of `mesh` on the resolved backend: one triangle per leaf, laid out depth first.
@@ -50,13 +52,23 @@ private:
 // on either side of it in Morton order.
 inline constexpr int k_ploc_radius = 8;
 
+// A PLOC round whose mutual pairs are fewer than one in this many of its clusters pairs all
+// of them in place order instead (the first with the second, ...), so that every round
+// removes a fixed share of the clusters, whatever the input.
+inline constexpr int k_ploc_ordered_share = 32;
+
+// The most rounds PLOC takes for n triangles, whatever they are (ploc.cu proves it): about
+// F ln(n / F) + F for F = k_ploc_ordered_share; 293 for 200 000 triangles.
+int ploc_round_bound(long long n);
+
 // PLOC (Meister & Bittner 2018) on the resolved backend: the triangles in 30-bit Morton order
 // are clusters; every cluster finds the neighbour within `radius` whose merged box has the
-// smallest surface area, pairs that chose each other merge, and the rounds go on until one
-// cluster is left. One triangle per leaf, laid out depth first; both backends give the same
-// tree bit for bit. A tree deeper than chapter 07's stack allows is replaced by the 30-bit
-// LBVH (GpuBuild::note says so). Throws InputError as build_lbvh does, and for a radius
-// outside 1..64.
+// smallest surface area, pairs that chose each other merge (in a round where they are too
+// few, all clusters pair in place order instead), and the rounds go on until one cluster is
+// left. One triangle per leaf, laid out depth first; both backends give the same tree bit for
+// bit. A tree deeper than chapter 07's stack allows is replaced by the 30-bit LBVH
+// (GpuBuild::note says so; its rounds are PLOC's). Throws InputError as build_lbvh does, and
+// for a radius outside 1..64.
 GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc_radius);
 
 // New boxes for the same tree after the mesh's vertices moved (same triangles, same vertex

@@ -5,6 +5,7 @@
 // round depends on the order threads run in, so both backends make the same tree.
 #include "gpu_build.h"
 
+#include <algorithm>
 #include <numeric>
 #include <string>
 
@@ -48,8 +49,8 @@ struct StartClusters {
 
 // [listing:ploc_neighbour]
 // Each cluster's nearest neighbour within `radius` places on either side: the one whose box
-// merged with its own has the smallest surface area, the nearer place on a tie (then the left
-// one), so the choice depends on nothing but the boxes.
+// merged with its own has the smallest surface area, the leftmost of equal ones (the first
+// the loop meets), so the choice depends on nothing but the boxes and their places.
 struct FindNeighbours {
   PlocTree tree;
   const int* clusters;
@@ -78,8 +79,10 @@ struct FindNeighbours {
 
 // [listing:ploc_merge]
 // Two clusters that chose each other merge: the left one makes the new node, in its own place,
-// and the right one leaves. Some pair always chooses each other (the pair with the smallest
-// merged area of all, the leftmost such pair on a tie), so every round merges at least once.
+// and the right one leaves. Some pair always chooses each other: the leftmost cluster in a
+// pair of the smallest merged area of all chooses the leftmost of its partners of that area,
+// and that one chooses it back, since no cluster further left is in such a pair. So every
+// round merges at least once; and that may be all it does (ploc_round_bound).
 struct MarkMerges {
   const int* neighbour;
   int* makes_node; // 1 where a cluster makes a node
@@ -92,20 +95,39 @@ struct MarkMerges {
   }
 };
 
-// The round's new nodes and the clusters that go on, at places the prefix sums gave them.
+// Whether a round pairs its clusters in place order instead: when its mutual pairs (the last
+// prefix of makes_node plus the last flag) are fewer than one in k_ploc_ordered_share.
+RT_HD inline bool pairs_in_order(const int* makes_node, const int* node_offset, int count) {
+  const long long mutual_pairs = node_offset[count - 1] + makes_node[count - 1];
+  return mutual_pairs * k_ploc_ordered_share < count;
+}
+
+// The round's new nodes and the clusters that go on: at places the prefix sums gave them, or
+// in a round that pairs in place order, cluster 2k with 2k + 1 into node k, at place k.
 struct MergeClusters {
   PlocTree tree;
   const int *clusters, *neighbour, *makes_node, *stays, *node_offset, *place;
+  int count;
   int first_new; // the node number of this round's first new node
   int* next_clusters;
   RT_HD void operator()(int i) const {
-    if (!stays[i]) return;
-    if (!makes_node[i]) {
-      next_clusters[place[i]] = clusters[i];
+    int partner = -1, offset = 0, at = 0;
+    if (pairs_in_order(makes_node, node_offset, count)) {
+      if (i % 2 == 1) return;
+      partner = i + 1 < count ? i + 1 : -1;
+      offset = at = i / 2;
+    } else {
+      if (!stays[i]) return;
+      partner = makes_node[i] ? neighbour[i] : -1;
+      offset = node_offset[i];
+      at = place[i];
+    }
+    if (partner < 0) {
+      next_clusters[at] = clusters[i];
       return;
     }
-    const int a = clusters[i], b = clusters[neighbour[i]];
-    const int id = first_new + node_offset[i], interior = id - tree.n;
+    const int a = clusters[i], b = clusters[partner];
+    const int id = first_new + offset, interior = id - tree.n;
     tree.nodes[interior] = {{a, b}};
     Aabb box = tree.boxes[a];
     box.grow(tree.boxes[b]);
@@ -113,19 +135,23 @@ struct MergeClusters {
     tree.leaf_counts[id] = tree.leaf_counts[a] + tree.leaf_counts[b];
     tree.parents[a] = 2 * interior;
     tree.parents[b] = 2 * interior + 1;
-    next_clusters[place[i]] = id;
+    next_clusters[at] = id;
   }
 };
 // [/listing:ploc_merge]
 
-// How many nodes the round made and clusters it kept: the last prefix plus the last flag.
+// How many nodes the round made and clusters it kept (the last prefix plus the last flag, or
+// half of them when it paired in order), and whether it paired in order.
 struct RoundTotals {
   const int *makes_node, *stays, *node_offset, *place;
-  int last;
+  int count;
   int* totals;
   RT_HD void operator()(int) const {
-    totals[0] = node_offset[last] + makes_node[last];
-    totals[1] = place[last] + stays[last];
+    const int last = count - 1;
+    const bool in_order = pairs_in_order(makes_node, node_offset, count);
+    totals[0] = in_order ? count / 2 : node_offset[last] + makes_node[last];
+    totals[1] = in_order ? (count + 1) / 2 : place[last] + stays[last];
+    totals[2] = in_order;
   }
 };
 
@@ -224,18 +250,26 @@ struct PlocArrays {
       : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
         nodes(backend, n - 1), clusters(backend, n), next_clusters(backend, n),
         neighbour(backend, n), makes_node(backend, n), stays(backend, n),
-        node_offset(backend, n), place(backend, n), totals(backend, 2),
+        node_offset(backend, n), place(backend, n), totals(backend, 3),
         scan_scratch(backend, backend == Backend::gpu ? scan_scratch_bytes(n) : 0) {}
   PlocTree tree(int n) {
     return {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()};
   }
 };
 
+// How many rounds the clustering ran, and how many of them paired in order.
+struct RoundCounts {
+  int rounds = 0, in_order = 0;
+};
+
 // The clustering rounds, until one cluster is left.
-void cluster(Backend backend, PlocArrays& a, int n, int radius) {
+RoundCounts cluster(Backend backend, PlocArrays& a, int n, int radius) {
   const PlocTree tree = a.tree(n);
+  const int bound = ploc_round_bound(n);
   int count = n, made = 0;
+  RoundCounts counts;
   while (count > 1) {
+    if (++counts.rounds > bound) throw Error("PLOC ran past its round bound: see the proof");
     for_each_index(backend, count,
                    FindNeighbours{tree, a.clusters.data(), count, radius, a.neighbour.data()});
     for_each_index(backend, count,
@@ -245,18 +279,21 @@ void cluster(Backend backend, PlocArrays& a, int n, int radius) {
     for_each_index(backend, count,
                    MergeClusters{tree, a.clusters.data(), a.neighbour.data(),
                                  a.makes_node.data(), a.stays.data(), a.node_offset.data(),
-                                 a.place.data(), n + made, a.next_clusters.data()});
+                                 a.place.data(), count, n + made, a.next_clusters.data()});
     for_each_index(backend, 1,
                    RoundTotals{a.makes_node.data(), a.stays.data(), a.node_offset.data(),
-                               a.place.data(), count - 1, a.totals.data()});
+                               a.place.data(), count, a.totals.data()});
     const std::vector<int> totals = a.totals.to_host();
     made += totals[0];
     count = totals[1];
+    counts.in_order += totals[2];
     std::swap(a.clusters, a.next_clusters);
   }
+  return counts;
 }
 
-std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int radius) {
+std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int radius,
+                                  RoundCounts& counts) {
   const int n = static_cast<int>(mesh.triangles.size());
   MeshArrays d_mesh(backend, mesh);
   MortonOrder<std::uint32_t> order(backend, d_mesh.view());
@@ -275,7 +312,7 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
   for_each_index(
       backend, n,
       StartClusters{tree, order.boxes.data(), order.sorted_ids.data(), a.clusters.data()});
-  cluster(backend, a, n, radius);
+  counts = cluster(backend, a, n, radius);
   for_each_index(backend, 2 * n - 1,
                  PlacePloc{tree, index.data(), slot.data(), too_deep.data()});
   if (too_deep.to_host()[0] != 0) return std::nullopt;
@@ -295,6 +332,27 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
 
 } // namespace
 
+// [listing:ploc_round_bound]
+// Why PLOC's rounds are few whatever the input. A round that starts with c clusters and
+// merges m mutual pairs leaves c - m, and nothing bounds m from below but 1 (MarkMerges):
+// where every cluster's nearest neighbour is its left one (centroids spaced ever wider), or
+// where all are equally near (identical boxes, or boxes on a line, all merged areas equal, the
+// leftmost chosen), one pair is all a round merges, and n - 1 rounds do n^2 work. So a round
+// whose mutual pairs are fewer than c / F (F = k_ploc_ordered_share) pairs all of its clusters
+// in place order instead, and leaves ceil(c / 2) <= c - ceil(c / F) of them; any other round
+// leaves c - m <= c - ceil(c / F). With m >= 1 too, every round removes at least
+// max(1, ceil(c / F)) clusters, a fixed share: O(F log n) rounds, counted here exactly. A pair
+// in place order need not be near, so F is set where no model of the benchmark set goes (its
+// fewest mutual pairs in a round of more than F clusters are about one in twelve), and such
+// rounds are left to input that has no nearest neighbours to speak of.
+int ploc_round_bound(long long n) {
+  int rounds = 0;
+  for (long long c = n; c > 1; ++rounds)
+    c -= std::max(1LL, (c + k_ploc_ordered_share - 1) / k_ploc_ordered_share);
+  return rounds;
+}
+// [/listing:ploc_round_bound]
+
 GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius) {
   if (radius < 1 || radius > 64)
     throw InputError("PLOC radius " + std::to_string(radius) + ": it takes 1 to 64");
@@ -304,12 +362,15 @@ GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius) {
   if (backend == Backend::gpu)
     ch05::check_device_memory(static_cast<std::size_t>(n) * device_bytes_per_triangle(),
                               "the PLOC tree of " + std::to_string(n) + " triangles");
-  std::optional<GpuBuild> built = ploc_tree(backend, mesh, radius);
+  RoundCounts counts;
+  std::optional<GpuBuild> built = ploc_tree(backend, mesh, radius, counts);
   if (!built) {
     built = build_lbvh(backend, mesh, CodeWidth::bits30);
     built->note = "PLOC's tree was deeper than the traversal stack; built as the 30-bit LBVH";
-    return std::move(*built);
   }
+  built->rounds = counts.rounds;
+  built->rounds_in_order = counts.in_order;
+  if (!built->note.empty()) return std::move(*built);
   built->bvh.options.method = ch07::SplitMethod::sah; // merged by surface area
   built->bvh.options.max_leaf_size = 1;
   built->bvh.stats.build_ms = built->build_ms;

@@ -1,6 +1,7 @@
 // Chapter 10 test cases shared by its test files: the meshes that stress a Morton-code build
-// (every centroid equal; points spaced by powers of two), a mesh bent out of shape for the
-// refit, and the comparison of a tree's hits with brute force.
+// (every centroid equal; points spaced by powers of two) and a clustering one (centroids on a
+// line, evenly or ever wider spaced), a mesh bent out of shape for the refit, and the
+// comparison of a tree's hits with brute force.
 #pragma once
 
 #include <cmath>
@@ -43,6 +44,32 @@ inline Mesh power_of_two_chain(int pile) {
       add_point_triangle(mesh, p);
     }
   add_point_triangle(mesh, {1.0f, 1.0f, 1.0f});
+  return mesh;
+}
+
+// One small triangle in the plane x = p, a unit square's half: its box is flat in x.
+inline void add_triangle_at_x(Mesh& mesh, float x) {
+  const int base = static_cast<int>(mesh.vertices.size());
+  mesh.vertices.insert(mesh.vertices.end(),
+                       {{x, 0.0f, 0.0f}, {x, 1.0f, 0.0f}, {x, 0.0f, 1.0f}});
+  mesh.triangles.push_back({base, base + 1, base + 2});
+}
+
+// `count` triangles at x = 0, 1, 2, ...: centroids on a line, evenly spaced, so that every
+// cluster's two nearest neighbours are equally near. Made in x order, which the Morton order
+// keeps (equal codes stay in number order).
+inline Mesh collinear_triangles(int count) {
+  Mesh mesh;
+  for (int k = 0; k < count; ++k) add_triangle_at_x(mesh, static_cast<float>(k));
+  return mesh;
+}
+
+// `count` (at most 500) triangles at x = 2^(k/4): centroids spaced ever wider, so that every
+// cluster's nearest neighbour is its left one, in every round: a chain whose only mutual pair
+// is its first two. Made in x order, which the Morton order keeps.
+inline Mesh exponentially_spaced_triangles(int count) {
+  Mesh mesh;
+  for (int k = 0; k < count; ++k) add_triangle_at_x(mesh, std::exp2(0.25f * k));
   return mesh;
 }
 

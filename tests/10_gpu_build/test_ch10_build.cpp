@@ -1,12 +1,14 @@
 // Chapter 10 tests of the parallel builds on CPU threads (the RT_HD passes the GPU runs too):
 // Morton codes against hand-computed ones; LBVH trees of both code widths pass chapter 07's
 // checker and give brute force's hits; equal codes make a balanced tree; a chain of powers of
-// two stays within the depth bound; the refit of a bent mesh passes the checker and gives
-// brute force's hits; no ray leaks out of closed meshes; bad input is refused.
+// two stays within the depth bound; PLOC's rounds stay few on centroids that tie or chain; the
+// refit of a bent mesh passes the checker and gives brute force's hits; no ray leaks out of
+// closed meshes; bad input is refused.
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "rt_catch.h"
@@ -155,6 +157,9 @@ TEST_CASE("PLOC trees pass chapter 07's checker, give brute force's hits, cost l
     const GpuBuild ploc = build_ploc(Backend::cpu, moved);
     CHECK(problems_of(ploc.bvh, moved).empty());
     CHECK(ploc.note.empty());
+    // Nearest neighbours to speak of: every round merges its mutual pairs, none in order.
+    CHECK(ploc.rounds > 0);
+    CHECK(ploc.rounds_in_order == 0);
     const auto rays = rt::testing::random_rays(3000, 19, centre, 10.0f);
     CHECK(brute_force_mismatches(ploc.bvh.view(), moved, rays) == 0);
     // Merging by area beats splitting by Morton bits.
@@ -167,6 +172,41 @@ TEST_CASE("PLOC trees pass chapter 07's checker, give brute force's hits, cost l
     CHECK(problems_of(ploc.bvh, mesh).empty());
   }
   CHECK_THROWS_AS(build_ploc(Backend::cpu, identical_triangles(4), 0), InputError);
+}
+
+TEST_CASE("PLOC's rounds stay few on identical, collinear and ever wider spaced centroids",
+          "[ch10]") {
+  // Each of these once took n - 1 rounds of one merge each, n^2 work (20 000 identical
+  // triangles took half a minute on two CPU threads). Now a round of more than
+  // F = k_ploc_ordered_share clusters with hardly a mutual pair pairs them all in order,
+  // halving them, and at most F - 1 rounds of one merge are left: log2(n) + F rounds, well
+  // inside the bound that holds for any input (293 for 200 000 triangles).
+  const std::pair<const char*, Mesh> cases[] = {
+      {"identical", identical_triangles(200000)},
+      {"collinear, evenly spaced", collinear_triangles(100000)},
+      {"collinear, spaced by 2^(1/4)", exponentially_spaced_triangles(480)},
+  };
+  for (const auto& [name, mesh] : cases) {
+    CAPTURE(name);
+    const int n = static_cast<int>(mesh.triangles.size());
+    const GpuBuild ploc = build_ploc(Backend::cpu, mesh);
+    CHECK(problems_of(ploc.bvh, mesh).empty());
+    CHECK(ploc.note.empty()); // PLOC's own tree: no deeper than the traversal stack
+    CHECK(ploc.rounds <= ploc_round_bound(n));
+    CHECK(ploc.rounds <= std::bit_width(static_cast<unsigned>(n)) + k_ploc_ordered_share);
+    CHECK(ploc.rounds_in_order > 0);
+    // The LBVH has no rounds: its time is a sort and a pass per node whatever the input, and
+    // its 30-bit tree stays within the proof's depth of 57 (gpu_build.cu).
+    for (const CodeWidth width : k_widths) {
+      CAPTURE(to_string(width));
+      const GpuBuild lbvh = build_lbvh(Backend::cpu, mesh, width);
+      CHECK(problems_of(lbvh.bvh, mesh).empty());
+      CHECK(lbvh.bvh.stats.depth <= (lbvh.codes == CodeWidth::bits30 ? 57 : 63));
+    }
+  }
+  CHECK(ploc_round_bound(200000) == 293);
+  CHECK(ploc_round_bound(2) == 1);
+  CHECK(ploc_round_bound(1) == 0);
 }
 
 TEST_CASE("the refit of a bent mesh passes the checker and gives brute force's hits",

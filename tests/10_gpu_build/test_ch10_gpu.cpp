@@ -1,6 +1,7 @@
 // Chapter 10 tests on the GPU: the same passes on CUDA threads give the CPU threads' tree bit
 // for bit (nodes, their order, the triangle copies and ids), the LBVH of both code widths and
-// PLOC, on random scenes, on equal codes and on the chain that makes 63-bit codes fall back;
+// PLOC, on random scenes, on equal codes and on the chain that makes 63-bit codes fall back,
+// and PLOC's rounds on centroids that tie or chain (identical, collinear, ever wider spaced);
 // the GPU refit gives the CPU refit's boxes, on a bent mesh and on the moving scene's frames;
 // the GPU's collapse to the 4-wide tree is the CPU's, nodes and triangle records; frames made
 // on the GPU move the vertices as the host reference does, and their trees pass the checkers.
@@ -55,6 +56,31 @@ TEST_CASE("the GPU's LBVH and PLOC trees are the CPU's, bit for bit", "[ch10][gp
     const GpuBuild cpu = build_ploc(Backend::cpu, mesh);
     CHECK(ch07::check_bvh(gpu.bvh, mesh).empty());
     check_same_tree(gpu.bvh, cpu.bvh);
+  }
+}
+
+TEST_CASE("centroids that tie or chain: the GPU's PLOC takes the CPU's rounds to its tree",
+          "[ch10][gpu]") {
+  RT_REQUIRE_GPU();
+  const std::vector<Mesh> meshes = {identical_triangles(200000), collinear_triangles(100000),
+                                    exponentially_spaced_triangles(480)};
+  for (const Mesh& mesh : meshes) {
+    CAPTURE(mesh.triangles.size());
+    const GpuBuild gpu = build_ploc(Backend::gpu, mesh);
+    const GpuBuild cpu = build_ploc(Backend::cpu, mesh);
+    CHECK(ch07::check_bvh(gpu.bvh, mesh).empty());
+    check_same_tree(gpu.bvh, cpu.bvh);
+    CHECK(gpu.rounds == cpu.rounds);
+    CHECK(gpu.rounds_in_order == cpu.rounds_in_order);
+    CHECK(gpu.rounds_in_order > 0);
+    CHECK(gpu.rounds <= ploc_round_bound(static_cast<long long>(mesh.triangles.size())));
+    CHECK(gpu.note.empty());
+    for (const CodeWidth width : {CodeWidth::bits30, CodeWidth::bits63}) {
+      CAPTURE(to_string(width));
+      const GpuBuild lbvh = build_lbvh(Backend::gpu, mesh, width);
+      CHECK(ch07::check_bvh(lbvh.bvh, mesh).empty());
+      check_same_tree(lbvh.bvh, build_lbvh(Backend::cpu, mesh, width).bvh);
+    }
   }
 }
 
