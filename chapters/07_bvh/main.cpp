@@ -169,11 +169,8 @@ int main(int argc, char** argv) {
   CLI::App app{"Chapter 07: the bounding volume hierarchy: build, traversal, benchmark",
                "ch07_bvh"};
   ChapterOptions options;
-  options.common.width = 1280;
-  options.common.height = 720;
-  options.common.output = "ch07_bvh.png";
-  options.query.scene_path = RT_ASSETS_DIR "/torus_knot_100k.obj.gz";
-  options.query.models_dir = RT_MODELS_DIR;
+  set_tree_program_defaults(options, options.query, "ch07_bvh.png", RT_ASSETS_DIR,
+                            RT_MODELS_DIR);
   ch03::add_program_options(app, options);
   ch04::add_triangle_variant_option(app, options.variant);
   app.get_option("--variant")

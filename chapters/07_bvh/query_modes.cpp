@@ -183,6 +183,24 @@ BenchmarkScenes benchmark_scenes(const QueryOptions& q) {
 
 } // namespace
 
+void set_tree_program_defaults(ch03::ProgramOptions& program, QueryOptions& query,
+                               const std::string& output, const std::string& assets_dir,
+                               const std::string& models_dir) {
+  program.common.width = 1280;
+  program.common.height = 720;
+  program.common.output = output;
+  query.scene_path = assets_dir + "/torus_knot_100k.obj.gz";
+  query.models_dir = models_dir;
+}
+
+void add_reference_options(CLI::App& app, long long& reference_rays, bool& skip_cpu) {
+  app.add_option("--reference-rays", reference_rays,
+                 "Rays per ray type the float64 reference traces (every triangle, in double)")
+      ->check(CLI::Range(1LL, 1LL << 20))
+      ->capture_default_str();
+  app.add_flag("--skip-cpu", skip_cpu, "On the GPU, leave out the CPU rows");
+}
+
 void add_query_options(CLI::App& app, QueryOptions& q,
                        const std::string& what_benchmark_measures) {
   app.add_option("--scene", q.scene_path,

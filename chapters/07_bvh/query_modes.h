@@ -40,6 +40,17 @@ struct QueryOptions {
 void add_query_options(CLI::App& app, QueryOptions& query,
                        const std::string& what_benchmark_measures);
 
+// The defaults every program with a tree (chapters 07-10) starts from: a 1280x720 image
+// written to `output`, the course's ~100k-triangle model in `assets_dir` as the scene, and the
+// benchmark set looked for in `models_dir`.
+void set_tree_program_defaults(ch03::ProgramOptions& program, QueryOptions& query,
+                               const std::string& output, const std::string& assets_dir,
+                               const std::string& models_dir);
+
+// Adds --reference-rays (rays per ray type that the float64 reference traces, every triangle
+// in double) and --skip-cpu: the report options of the chapters after this one.
+void add_reference_options(CLI::App& app, long long& reference_rays, bool& skip_cpu);
+
 // Adds --split, --leaf-size and --bins: how chapter 07's tree is built (for the image, the
 // queries and the benchmark; later chapters build from it).
 void add_build_options(CLI::App& app, BuildOptions& build);

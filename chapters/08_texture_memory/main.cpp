@@ -180,11 +180,8 @@ int main(int argc, char** argv) {
                "texture loads, measured",
                "ch08_texture_memory"};
   ChapterOptions options;
-  options.common.width = 1280;
-  options.common.height = 720;
-  options.common.output = "ch08_texture_memory.png";
-  options.query.scene_path = RT_ASSETS_DIR "/torus_knot_100k.obj.gz";
-  options.query.models_dir = RT_MODELS_DIR;
+  ch07::set_tree_program_defaults(options, options.query, "ch08_texture_memory.png",
+                                  RT_ASSETS_DIR, RT_MODELS_DIR);
   ch03::add_program_options(app, options);
   ch07::add_query_options(app, options.query, "every memory path's rays");
   app.add_option_function<std::string>(
@@ -197,11 +194,7 @@ int main(int argc, char** argv) {
          "or all (the CPU has global and float4); the first one answers --rays and "
          "--dump-hits")
       ->default_str("all");
-  app.add_option("--reference-rays", options.reference_rays,
-                 "Rays per ray type the float64 reference traces (every triangle, in double)")
-      ->check(CLI::Range(1LL, 1LL << 20))
-      ->capture_default_str();
-  app.add_flag("--skip-cpu", options.skip_cpu, "On the GPU, leave out the CPU rows");
+  ch07::add_reference_options(app, options.reference_rays, options.skip_cpu);
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
     ch07::check_query_options(options.query, options, app, k_chapter_flags);
