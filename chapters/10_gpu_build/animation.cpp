@@ -10,6 +10,7 @@
 
 #include "moving_frames.h"
 #include "rt/backend_array.h"
+#include "rt/cpu_progress.h"
 #include "rt/error.h"
 
 namespace rt::ch10 {
@@ -72,8 +73,10 @@ ch04::Mesh waving_model(const ch04::Mesh& fitted, double time) {
 // [/listing:waving_model]
 
 ch05::ObjMesh moving_scene_at(double time, int detail, const ch04::Mesh* model) {
-  if (detail < 8 || detail > 4096)
-    throw InputError("--detail " + std::to_string(detail) + ": the torus takes 8 to 4096");
+  if (detail < 8 || detail > k_max_moving_detail)
+    throw InputError("--detail " + std::to_string(detail) + ": the torus takes 8 to " +
+                     std::to_string(k_max_moving_detail) +
+                     " (the scene within 10 million triangles)");
   ch05::ObjMesh scene;
   scene.geometry = model ? waving_model(*model, time) : rippling_torus(time, detail);
   scene.material_ids.assign(scene.geometry.triangles.size(), 0);
@@ -112,14 +115,16 @@ Update parse_update(const std::string& name) {
 AnimationResult run_animation(const AnimationOptions& options) {
   AnimationResult result;
   result.frames.resize(options.updates.size());
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(moving_scene_camera(), options.extent);
+  const ch03::Camera<float> camera = ch03::make_camera<float>(options.camera, options.extent);
   BackendArray<Rgba8> pixels(options.backend, options.extent.pixel_count());
   std::vector<std::unique_ptr<MovingFrames>> scenes; // one per update: each keeps its tree
   for (std::size_t u = 0; u < options.updates.size(); ++u)
     scenes.push_back(std::make_unique<MovingFrames>(options.backend, options.builder,
                                                     options.detail, options.model.get()));
+  const CpuWorkName work("moving scene");
+  CpuProgress progress(options.frames, "frames");
   for (int frame = 0; frame < options.frames; ++frame) {
+    progress.update(frame);
     for (std::size_t u = 0; u < options.updates.size(); ++u) {
       const auto start = std::chrono::steady_clock::now();
       const FrameParts parts =

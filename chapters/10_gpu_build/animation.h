@@ -19,11 +19,26 @@
 
 namespace rt::ch10 {
 
+// The moving scene's triangles at `detail`: the torus's (detail segments around, detail / 2
+// across, two triangles each: detail^2 for an even detail), four icospheres of 1 280 and the
+// floor's 6 faces of 4 x 4 cells.
+constexpr long long moving_scene_triangles(int detail) {
+  return 2LL * detail * (detail / 2) + 4 * 1280 + 6 * 4 * 4 * 2;
+}
+
+// The largest detail: the scene within the 10 million triangles a model may have (chapter
+// 05's LoadLimits; sqrt(10^7) = 3162 less the spheres and the floor), 9 994 072 triangles.
+// Chapter 11's moving scene is bounded by it too.
+inline constexpr int k_max_moving_detail = 3161;
+static_assert(moving_scene_triangles(k_max_moving_detail) <= ch05::LoadLimits{}.max_triangles &&
+              moving_scene_triangles(k_max_moving_detail + 1) >
+                  ch05::LoadLimits{}.max_triangles);
+
 // The scene at `time` (seconds): the rippling torus of detail^2 triangles (detail segments
 // around, detail / 2 across, two triangles each), four orbiting icospheres and the floor.
 // Every time gives the same triangles in the same order, only the vertices move. The reference
 // of the frames made on the backend (moving_frames.h). Throws InputError for a detail outside
-// 8..4096.
+// 8..k_max_moving_detail.
 // With a `model` (fitted by fit_moving_model) in the torus's place: the model waving
 // (waving_model), the same spheres and floor around it.
 ch05::ObjMesh moving_scene_at(double time, int detail, const ch04::Mesh* model = nullptr);
@@ -59,6 +74,7 @@ struct AnimationOptions {
   int detail = 316;                        // about 100k triangles in the torus
   std::shared_ptr<const ch04::Mesh> model; // fitted: in the torus's place; null: the torus
   Extent extent{1920, 1080};
+  ch03::CameraSpec camera = moving_scene_camera();
 };
 
 // One frame of one update, made on the backend (moving_frames.h): the vertices moved, the tree
@@ -75,6 +91,8 @@ struct AnimationResult {
   Image last_frame; // the last update's last frame
 };
 
+// The frames, each update's one after the other; every few seconds a progress line on stderr
+// (rt/cpu_progress.h), "moving scene: 37% (22 of 60 frames), 15 s".
 AnimationResult run_animation(const AnimationOptions& options);
 
 // The figures as CSV, one line per frame: frame, then animate, tree, collapse, trace and wall

@@ -202,8 +202,10 @@ int main(int argc, char** argv) {
          "With --moving: rebuild or refit (the tree every frame)")
       ->default_str("both");
   app.add_option("--detail", options.animation.animation.detail,
-                 "With --moving: the torus's segments around (detail^2 triangles)")
-      ->check(CLI::Range(8, 4096))
+                 "With --moving: the torus's segments around (detail^2 triangles; at most " +
+                     std::to_string(k_max_moving_detail) +
+                     ", which keeps the scene within a model's 10 million)")
+      ->check(CLI::Range(8, k_max_moving_detail))
       ->capture_default_str();
   app.add_option("--animation-csv", options.animation.csv_path,
                  "With --moving: write each frame's tree ms, frame ms and SAH cost here");
@@ -223,6 +225,10 @@ int main(int argc, char** argv) {
     if (options.moving && is_linear_image_path(options.common.output))
       throw UsageError("--moving writes its last frame as a picture: give --output a .png");
     options.moving_model = options.moving && app.count("--scene") > 0;
+    if (options.moving_model && app.count("--detail") > 0)
+      throw UsageError("--detail sizes the torus: not with --moving --scene, whose model "
+                       "waves in its place");
+    if (options.moving) check_moving_outputs(options.animation);
     return run(options);
   });
 }

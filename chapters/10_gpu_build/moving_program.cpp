@@ -5,6 +5,7 @@
 #include <iostream>
 #include <optional>
 
+#include "camera_cli.h"
 #include "moving_frames.h"
 #include "rt/output_file.h"
 #include "rt/program_output.h"
@@ -78,7 +79,23 @@ private:
   std::optional<MovingFrames> frames_;
 };
 
+// The animation's camera, and the command line's --eye, --target, --fov, --up and --camera
+// where it gives them.
+ch03::CameraSpec moving_camera(const ch03::ProgramOptions& program) {
+  const ch03::CameraSpec framed = moving_scene_camera();
+  ch03::CameraSpec camera = program.camera;
+  if (!program.eye_given) camera.eye = framed.eye;
+  if (!program.target_given) camera.target = framed.target;
+  if (!program.fov_given) camera.fov_degrees = framed.fov_degrees;
+  ch03::validate_camera(camera);
+  return camera;
+}
+
 } // namespace
+
+void check_moving_outputs(const MovingOptions& moving) {
+  if (!moving.csv_path.empty()) check_output_path(moving.csv_path, "--animation-csv");
+}
 
 int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving,
                        Backend backend) {
@@ -86,7 +103,8 @@ int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving
   animation.backend = backend;
   animation.extent = program.size_given() ? program.common.extent() : animation.extent;
   if (program.common.frames > 0) animation.frames = program.common.frames;
-  if (!moving.csv_path.empty()) check_output_path(moving.csv_path, "--animation-csv");
+  check_moving_outputs(moving);
+  animation.camera = moving_camera(program);
   const std::string builder = to_string(animation.builder);
   Report report =
       start_report("Chapter 10: a moving scene, its tree updated every frame", "Mpix/s",
@@ -95,7 +113,7 @@ int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving
   const ch03::ProgramParts parts{
       .chapter = "ch10",
       .window_title = std::string("moving scene, tree ") + to_string(animation.updates.front()),
-      .camera = moving_scene_camera(),
+      .camera = animation.camera,
       .render = [&](Backend b, const ch03::CameraSpec& spec, Extent extent,
                     Rgba8* pixels) { shown.render(b, spec, extent, pixels); },
       .window_row =

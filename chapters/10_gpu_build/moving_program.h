@@ -17,7 +17,13 @@ struct MovingOptions {
   std::string model_name;     // the file name of animation.model, for the report
 };
 
-// Runs the mode on the resolved backend; returns the exit code.
+// The mode's checks that need no work, for the program to make before any (a model loaded
+// for --scene): --animation-csv's path (rt::check_output_path). Throws OutputError.
+void check_moving_outputs(const MovingOptions& moving);
+
+// Runs the mode on the resolved backend, through the animation's camera where the command
+// line sets none (its --eye, --target, --fov, --up and --camera where it does); returns the
+// exit code. Checks its outputs again (check_moving_outputs).
 int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving,
                        Backend backend);
 

@@ -40,7 +40,13 @@ TEST_CASE("the moving scene keeps its triangles and moves its vertices", "[ch10]
   for (std::size_t v = 0; v < start.geometry.vertices.size(); ++v)
     moved += !rt::testing::same_bits(start.geometry.vertices[v], later.geometry.vertices[v]);
   CHECK(moved > 3000); // of the torus's 800 and the spheres' 4 x 642; the floor stays
+  CHECK(moving_scene_triangles(40) == static_cast<long long>(start.geometry.triangles.size()));
+  CHECK(moving_scene_triangles(41) ==
+        static_cast<long long>(moving_scene_at(0.0, 41).geometry.triangles.size()));
   CHECK_THROWS_AS(moving_scene_at(0.0, 7), InputError);
+  // Beyond the 10 million triangles of chapter 05's models: refused before anything is made.
+  CHECK_THROWS_WITH(moving_scene_at(0.0, k_max_moving_detail + 1),
+                    Catch::Matchers::Contains("8 to 3161"));
 }
 
 TEST_CASE("a tree refitted to a later frame passes the checker and finds brute force's hits",

@@ -2,11 +2,12 @@
 // measures each tree, binary and 4-wide (chapter 09's collapse and the parallel one), with
 // chapter 07's hits (in the text and the JSON);
 // --builder narrows it; the benchmark mode runs on a small scene; ray files through each tree
-// give brute force's hits; the moving scene writes its frames' figures and image; bad input
-// ends in one error line and a non-zero exit.
+// give brute force's hits; the moving scene writes its frames' figures and image, through the
+// camera flags given; bad input ends in one error line and a non-zero exit.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -149,6 +150,42 @@ TEST_CASE("program: the moving scene, rebuilt and refitted, its frames in a CSV"
   REQUIRE(refit.exit_code == 0);
   CHECK_THAT(refit.output, contains("PLOC, refit"));
   CHECK_THAT(refit.output, !contains("rebuild"));
+}
+
+TEST_CASE("program: --moving takes the camera flags and refuses what it would ignore",
+          "[ch10]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch10");
+  const std::string moving = "--moving --frames 1 --detail 8 --width 32 --height 18 "
+                             "--update rebuild --output ";
+  const auto image_of = [&](const std::string& name, const std::string& camera) {
+    const std::string path = (folder / name).string();
+    const ProgramRun run = run_program(moving + path + " " + camera);
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  // The animation's own camera, then each flag moving it: every image another one.
+  const std::string framed = image_of("framed.png", "");
+  CHECK(image_of("framed_again.png", "--eye 0,5,9.5 --target 0,-0.3,0 --fov 45") == framed);
+  CHECK(image_of("eye.png", "--eye 6,2,6") != framed);
+  CHECK(image_of("target.png", "--target 1,0,0") != framed);
+  CHECK(image_of("fov.png", "--fov 70") != framed);
+  CHECK(image_of("orthographic.png", "--camera orthographic") != framed);
+
+  const std::string bad_obj = (folder / "broken.obj").string();
+  std::ofstream(bad_obj) << "v 1 2\nf 1 2 3\n";
+  const rt::testing::RefusedInput cases[] = {
+      {"--moving --scene " + k_room + " --detail 40", 2, "--detail sizes the torus"},
+      {"--moving --detail 3162", 2, "3161"},
+      // Along the animation's view (the default camera's is another): --up is read.
+      {"--moving --up 0,5.3,9.5", 2, "--up is parallel"},
+      // The CSV's folder is checked before the model is loaded (and found broken).
+      {"--moving --scene " + bad_obj + " --animation-csv " +
+           (folder / "no" / "such.csv").string(),
+       1, "such.csv"},
+  };
+  rt::testing::check_refused(run_program, cases);
 }
 
 TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch10]") {
