@@ -13,6 +13,7 @@
 #include "rt/backend.h"
 #include "rt/cpu_progress.h"
 #include "rt/device_buffer.h"
+#include "rt/launch.h"
 #include "rt/timer.h"
 #include "traverse.h"
 
@@ -35,30 +36,11 @@ private:
 void trace_rays_gpu(Query query, TriangleVariant variant, const BvhView& bvh, const RayF* rays,
                     int count, MeshHit* hits);
 
-// Runs fn(i) for every i in 0 .. count-1 on `threads` CPU threads (the calling one among them).
-// Rays are handed out in chunks of up to 256 from a shared counter: cheap load balancing when
-// some rays cost far more than others. A small batch (the float64 reference's thousand rays,
-// each costing milliseconds on a large model) gets smaller chunks, at least 64 per thread, so
-// that the work spreads evenly and its progress line moves.
+// Runs fn(i) for every ray index i in 0 .. count-1 on `threads` CPU threads: the 1-D launch
+// helper of rt/launch.h, which hands out chunks of rays from a shared counter.
 template <class Fn>
 void for_each_ray_cpu(std::size_t count, Fn fn, int threads = cpu_thread_count()) {
-  const std::size_t chunk = std::clamp<std::size_t>(
-      count / (64 * static_cast<std::size_t>(std::max(threads, 1))), 1, 256);
-  std::atomic<std::size_t> next{0}, done{0};
-  auto worker = [&](auto after_chunk) {
-    for (std::size_t start = next.fetch_add(chunk); start < count;
-         start = next.fetch_add(chunk)) {
-      const std::size_t end = std::min(count, start + chunk);
-      for (std::size_t i = start; i < end; ++i) fn(i);
-      after_chunk(done += end - start);
-    }
-  };
-  threads = std::max(1, std::min<int>(threads, int(count / chunk) + 1));
-  // A long batch says how far it has come, as chapter 01's launch helper does.
-  CpuProgress progress(static_cast<long long>(count), "rays");
-  std::vector<std::jthread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, [](std::size_t) {});
-  worker([&](std::size_t rays_done) { progress.update(static_cast<long long>(rays_done)); });
+  for_each_index_cpu(count, fn, threads, "rays");
 }
 
 // The same on CPU cores (host memory), through the same RT_HD traversal.

@@ -1,7 +1,7 @@
-// Chapter 10: the two tools every pass of the GPU build is written with. for_each_index runs
-// one RT_HD function per item, as a CUDA kernel or on CPU threads (chapter 07's
-// for_each_ray_cpu), and rt::BackendArray holds a pass's data in device or host memory,
-// whichever the backend reads. Only .cu files include this header: the GPU side needs nvcc.
+// Chapter 10: the two tools every pass of the GPU build is written with. rt::for_each_index
+// (rt/launch.h) runs one RT_HD function per item, as a CUDA kernel or on CPU threads, and
+// rt::BackendArray holds a pass's data in device or host memory, whichever the backend reads.
+// Only .cu files include this header: the GPU side needs nvcc.
 #pragma once
 
 #include <chrono>
@@ -16,27 +16,6 @@
 #include "rt/launch.h"
 
 namespace rt::ch10 {
-
-inline constexpr int k_build_block = 256; // threads per block of the build's kernels
-
-template <class Fn> __global__ void for_each_index_kernel(int count, Fn fn) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < count) fn(i);
-}
-
-// [listing:for_each_index]
-// fn(i) for every i in 0 .. count-1: one GPU thread each, or chunks of them on CPU threads.
-template <class Fn> void for_each_index(Backend backend, int count, Fn fn) {
-  if (count <= 0) return;
-  if (backend == Backend::cpu) {
-    ch07::for_each_ray_cpu(static_cast<std::size_t>(count),
-                           [&](std::size_t i) { fn(static_cast<int>(i)); });
-    return;
-  }
-  for_each_index_kernel<<<blocks_to_cover(count, k_build_block), k_build_block>>>(count, fn);
-  RT_CUDA_CHECK_LAUNCH("for_each_index_kernel");
-}
-// [/listing:for_each_index]
 
 // Build time as the benchmark protocol takes it: on the GPU, CUDA events around the kernels
 // (the sort included, transfers not); on the CPU, wall time.

@@ -108,9 +108,9 @@ int wavefront_registers(KernelKind kernel, unsigned features) {
     registers = std::max(registers, kernel_registers(kernel_function));
   };
   with_kernel(kernel, features, [&](auto f) {
-    take(ch10::for_each_index_kernel<Extend>);
-    take(ch10::for_each_index_kernel<Shade<decltype(f)>>);
-    take(ch10::for_each_index_kernel<Connect>);
+    take(for_each_index_kernel<Extend>);
+    take(for_each_index_kernel<Shade<decltype(f)>>);
+    take(for_each_index_kernel<Connect>);
   });
   return registers;
 }
@@ -129,18 +129,18 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
       Queues q{queues.paths.data(),    queues.shadows.data(),  queues.hits.data(),
                queues.queue[1].data(), queues.queue[0].data(), queues.shadow_queue.data(),
                queues.counters.data()};
-      ch10::for_each_index(backend, pixels, Generate{q, camera, first_sample + unsigned(s)});
+      for_each_index(backend, pixels, Generate{q, camera, first_sample + unsigned(s)});
       int live = pixels;
       while (live > 0) {
         q.queue = queues.queue[current].data();
         q.next_queue = queues.queue[1 - current].data();
-        ch10::for_each_index(backend, live, Extend{q, scene});
+        for_each_index(backend, live, Extend{q, scene});
         queues.counters.clear();
-        ch10::for_each_index(backend, live, Shade<decltype(f)>{q, scene, f, strategy});
+        for_each_index(backend, live, Shade<decltype(f)>{q, scene, f, strategy});
         unsigned counts[k_wavefront_counters];
         read_counters(backend, queues.counters.data(), counts);
-        ch10::for_each_index(backend, static_cast<int>(counts[k_shadow_queue_length]),
-                             Connect{q, scene, count_shadow_rays});
+        for_each_index(backend, static_cast<int>(counts[k_shadow_queue_length]),
+                       Connect{q, scene, count_shadow_rays});
         if (count_shadow_rays) {
           read_counters(backend, queues.counters.data(), counts);
           pass.shadow_rays += counts[k_shadow_rays_traced];
@@ -151,7 +151,7 @@ WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned 
         live = static_cast<int>(counts[k_next_queue_length]);
         current = 1 - current;
       }
-      ch10::for_each_index(backend, pixels, Finish{q, sums, non_finite});
+      for_each_index(backend, pixels, Finish{q, sums, non_finite});
     }
   });
   return pass;

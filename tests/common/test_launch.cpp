@@ -35,3 +35,26 @@ TEST_CASE("grid rounding", "[common]") {
   CHECK(blocks_to_cover(17, 16) == 2);
   CHECK(blocks_to_cover(1080, 16) == 68);
 }
+
+TEST_CASE("the 1-D CPU launch visits every index exactly once, on any thread count",
+          "[common]") {
+  for (const int count : {1, 63, 64 * 4 + 1, 100000}) {
+    for (const int threads : {1, 2, 7}) {
+      std::vector<unsigned> counts(static_cast<std::size_t>(count), 0u);
+      unsigned* c = counts.data();
+      for_each_index_cpu(
+          static_cast<std::size_t>(count), [=](std::size_t i) { atomic_increment(c + i); },
+          threads);
+      for (unsigned n : counts) REQUIRE(n == 1u);
+    }
+    std::vector<unsigned> counts(static_cast<std::size_t>(count), 0u);
+    unsigned* c = counts.data();
+    for_each_index(Backend::cpu, count, [=](int i) { atomic_increment(c + i); });
+    for (unsigned n : counts) REQUIRE(n == 1u);
+  }
+  int calls = 0;
+  for_each_index(Backend::cpu, 0, [&](int) { ++calls; });
+  for_each_index(Backend::cpu, -5, [&](int) { ++calls; });
+  CHECK(calls == 0);
+  CHECK_THROWS_AS(for_each_index(Backend::automatic, 1, [](int) {}), Error);
+}

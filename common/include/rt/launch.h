@@ -1,10 +1,12 @@
 // The launch helper (end of chapter 01): runs one RT_HD per-pixel function `fn(x, y)` over a
 // width x height image, either as a CUDA kernel on a 2D grid of 2D blocks or on all CPU cores.
-// Every later chapter renders through it. GPU launches need a .cu translation unit.
+// Every later chapter renders through it; for_each_index, its 1-D form, runs the passes of
+// chapters 10 and 11 (one function per item). GPU launches need a .cu translation unit.
 #pragma once
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <thread>
 #include <vector>
 
@@ -91,5 +93,60 @@ void for_each_pixel(Backend backend, Extent extent, PixelFn fn, BlockShape block
   throw Error("for_each_pixel: GPU launch from a file not compiled by nvcc");
 #endif
 }
+
+// fn(i) for every i in 0 .. count-1 on `threads` CPU threads (the calling one among them).
+// Items are handed out in chunks of up to 256 from a shared counter: cheap load balancing when
+// some cost far more than others. A small batch (chapter 07's float64 reference: a thousand
+// rays, each costing milliseconds on a large model) gets smaller chunks, at least 64 per
+// thread, so that the work spreads evenly and its progress line, counting `unit`, moves.
+template <class Fn>
+void for_each_index_cpu(std::size_t count, Fn fn, int threads = cpu_thread_count(),
+                        const char* unit = "rays") {
+  const std::size_t chunk = std::clamp<std::size_t>(
+      count / (64 * static_cast<std::size_t>(std::max(threads, 1))), 1, 256);
+  std::atomic<std::size_t> next{0}, done{0};
+  auto worker = [&](auto after_chunk) {
+    for (std::size_t start = next.fetch_add(chunk); start < count;
+         start = next.fetch_add(chunk)) {
+      const std::size_t end = std::min(count, start + chunk);
+      for (std::size_t i = start; i < end; ++i) fn(i);
+      after_chunk(done += end - start);
+    }
+  };
+  threads = std::max(1, std::min<int>(threads, int(count / chunk) + 1));
+  // A long batch says how far it has come, as for_each_pixel_cpu does.
+  CpuProgress progress(static_cast<long long>(count), unit);
+  std::vector<std::jthread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, [](std::size_t) {});
+  worker([&](std::size_t items_done) { progress.update(static_cast<long long>(items_done)); });
+}
+
+#if RT_DEVICE_CODE_POSSIBLE
+inline constexpr int k_index_block = 256; // threads per block of for_each_index's kernel
+
+template <class Fn> __global__ void for_each_index_kernel(int count, Fn fn) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < count) fn(i);
+}
+#endif
+
+// [listing:for_each_index]
+// fn(i) for every i in 0 .. count-1: one GPU thread each, or chunks of them on CPU threads.
+template <class Fn> void for_each_index(Backend backend, int count, Fn fn) {
+  if (count <= 0) return;
+  if (backend == Backend::cpu) {
+    for_each_index_cpu(static_cast<std::size_t>(count),
+                       [&](std::size_t i) { fn(static_cast<int>(i)); });
+    return;
+  }
+  if (backend != Backend::gpu) throw Error("for_each_index: resolve the backend first");
+#if RT_DEVICE_CODE_POSSIBLE
+  for_each_index_kernel<<<blocks_to_cover(count, k_index_block), k_index_block>>>(count, fn);
+  RT_CUDA_CHECK_LAUNCH("for_each_index_kernel");
+#else
+  throw Error("for_each_index: GPU launch from a file not compiled by nvcc");
+#endif
+}
+// [/listing:for_each_index]
 
 } // namespace rt
