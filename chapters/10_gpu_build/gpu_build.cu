@@ -136,7 +136,7 @@ template <class Code>
 std::optional<GpuBuild> build_from_codes(Backend backend, const ch04::Mesh& mesh) {
   MeshArrays d_mesh(backend, mesh);
   LbvhPasses<Code> lbvh(backend, d_mesh.view());
-  PassClock clock(backend);
+  BackendStopwatch clock(backend); // build time: events around the kernels, or wall time
   if (!lbvh.build(true)) return std::nullopt;
   GpuBuild build;
   build.build_ms = clock.milliseconds();
@@ -224,7 +224,7 @@ double refit_bvh(Backend backend, ch07::Bvh& bvh, const ch04::Mesh& mesh) {
       parents(backend, count);
   BackendArray<TriangleF> triangles(backend, mesh.triangles.size());
   BackendArray<unsigned> arrivals(backend, count);
-  PassClock clock(backend);
+  BackendStopwatch clock(backend); // build time: events around the kernels, or wall time
   for_each_index(backend, static_cast<int>(mesh.triangles.size()),
                  GatherTriangles{d_mesh.view(), ids.data(), triangles.data()});
   const bool single_leaf = count == 1 && bvh.nodes[0].count[1] == 0;

@@ -8,6 +8,7 @@
 #include "build_passes.cuh"
 #include "builders.h"
 #include "gpu_build.h"
+#include "rt/timer.h"
 #include "shaded_render.h"
 #include "shaded_scene.h"
 #include "wide_collapse.h"
@@ -59,33 +60,6 @@ struct MoveVertices {
   }
 };
 
-// Marks between a frame's parts: CUDA events on the GPU, the steady clock on the CPU.
-class PartClock {
-public:
-  explicit PartClock(Backend backend) : backend_(backend) {
-    if (backend_ == Backend::gpu)
-      for (std::optional<CudaEvent>& event : events_) event.emplace();
-  }
-  void mark(int i) {
-    if (backend_ == Backend::gpu)
-      events_[i]->record();
-    else
-      wall_[i] = std::chrono::steady_clock::now();
-  }
-  void wait(int last) {
-    if (backend_ == Backend::gpu) events_[last]->synchronize();
-  }
-  double between(int a, int b) const {
-    if (backend_ == Backend::gpu) return events_[b]->milliseconds_since(*events_[a]);
-    return std::chrono::duration<double, std::milli>(wall_[b] - wall_[a]).count();
-  }
-
-private:
-  Backend backend_;
-  std::array<std::optional<CudaEvent>, 5> events_; // the GPU's only
-  std::array<std::chrono::steady_clock::time_point, 5> wall_;
-};
-
 } // namespace
 
 struct MovingFrames::State {
@@ -103,7 +77,7 @@ struct MovingFrames::State {
   LbvhOnBackend lbvh;
   WideCollapse collapse;
   std::optional<TreeArrays> host_built; // another builder's tree, built on the host
-  PartClock clock;
+  BackendClock clock;                   // marks between a frame's parts
   bool built = false;
 
   State(Backend b, Builder which, int d, int model_count, int per_sphere,
@@ -114,7 +88,7 @@ struct MovingFrames::State {
         rest(b, std::span<const Vec3f>(rest_pose)),
         vertices(b, std::span<const Vec3f>(scene.mesh.vertices)),
         triangles(b, std::span<const IndexedTriangle>(scene.mesh.triangles)), lbvh(b, mesh()),
-        collapse(b, mesh().triangle_count), clock(b) {
+        collapse(b, mesh().triangle_count), clock(b, 5) {
     if (b == Backend::gpu) d_scene.emplace(scene, features);
   }
 
@@ -181,9 +155,8 @@ FrameParts MovingFrames::frame(double time, Update update, const ch03::Camera<fl
                            ch09::with_wide(s.scene_view(), s.collapse.view()), camera, extent,
                            pixels);
   s.clock.mark(4);
-  s.clock.wait(4);
-  return {s.clock.between(0, 1), s.clock.between(1, 2), s.clock.between(2, 3),
-          s.clock.between(3, 4)};
+  return {s.clock.milliseconds_between(0, 1), s.clock.milliseconds_between(1, 2),
+          s.clock.milliseconds_between(2, 3), s.clock.milliseconds_between(3, 4)};
 }
 
 std::vector<Vec3f> MovingFrames::vertices() const { return state_->vertices.to_host(); }

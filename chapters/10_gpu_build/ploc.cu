@@ -306,7 +306,7 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
   a.parents.fill_bytes(0xff); // -1: no parent yet
   too_deep.fill_bytes(0);
 
-  PassClock clock(backend);
+  BackendStopwatch clock(backend); // build time: events around the kernels, or wall time
   order.sort();
   const PlocTree tree = a.tree(n);
   for_each_index(

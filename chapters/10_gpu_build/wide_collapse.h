@@ -40,8 +40,8 @@ private:
 };
 
 // `binary` (it passes chapter 07's checker; leaves of at most three triangles) collapsed on the
-// backend; stats.build_ms is the collapse's time, measured as a build's (PassClock). Throws
-// InputError for a larger leaf.
+// backend; stats.build_ms is the collapse's time, measured as a build's (rt::BackendStopwatch).
+// Throws InputError for a larger leaf.
 ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary);
 
 // A wide tree's report figures, computed from the tree itself as chapter 09's collapse
