@@ -173,17 +173,6 @@ struct NumberChildren {
   }
 };
 
-// chapter 09's PackedTriangles records of one triangle: five float2, the id's bits in one lane.
-RT_HD inline void write_records(float2* r, const TriangleF& tri, int id) {
-  float id_bits;
-  std::memcpy(&id_bits, &id, sizeof id_bits);
-  r[0] = {tri.v0.x, tri.v0.y};
-  r[1] = {tri.v0.z, id_bits};
-  r[2] = {tri.v1.x, tri.v1.y};
-  r[3] = {tri.v1.z, tri.v2.x};
-  r[4] = {tri.v2.y, tri.v2.z};
-}
-
 // Pass 4: each wide node written at its number, its leaves' triangles from its triangle_base.
 struct WriteWideNodes {
   CollapseView t;
@@ -206,8 +195,9 @@ struct WriteWideNodes {
       }
       node.meta[p] = ch09::leaf_meta(child.count, offset);
       for (int k = 0; k < child.count; ++k, ++offset)
-        write_records(t.out_records + 5 * (node.triangle_base + offset),
-                      t.triangles[child.first + k], t.triangle_ids[child.first + k]);
+        ch09::PackedTriangles::write(
+            t.out_records + ch09::PackedTriangles::k_records * (node.triangle_base + offset),
+            t.triangles[child.first + k], t.triangle_ids[child.first + k]);
     });
     t.out_nodes[t.wide_index[i]] = node;
   }
