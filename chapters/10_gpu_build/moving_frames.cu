@@ -3,6 +3,7 @@
 
 #include <array>
 #include <chrono>
+#include <numbers>
 #include <optional>
 
 #include "build_passes.cuh"
@@ -19,7 +20,7 @@ namespace {
 
 using namespace passes;
 
-constexpr float k_pi_f = 3.14159265358979f;
+constexpr float k_pi_f = std::numbers::pi_v<float>;
 
 // Each vertex of the scene at `time`, computed alone: the torus's from its place in the grid
 // (moving_scene_at's rippling_torus, in float) or a model's lifted by waving_model's wave, the
