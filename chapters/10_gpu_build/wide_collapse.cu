@@ -321,11 +321,6 @@ void fill_wide_stats(ch09::Wide4PackedBvh& tree) {
   ch09::WideStats stats;
   stats.build_ms = tree.stats.build_ms;
   stats.nodes = static_cast<int>(tree.nodes.size());
-  const auto half_area = [](const Aabb& box) {
-    if (box.empty()) return 0.0;
-    const Vec3d e = box.hi.as<double>() - box.lo.as<double>();
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-  };
   std::vector<int> depth(tree.nodes.size(), 0);
   long long children = 0, leaf_triangles = 0;
   double cost = 0.0, root_area = 0.0;
@@ -344,10 +339,10 @@ void fill_wide_stats(ch09::Wide4PackedBvh& tree) {
       const int count = std::popcount(unsigned(node.meta[c] >> 5));
       ++stats.leaves;
       leaf_triangles += count;
-      cost += half_area(child) * count * ch09::k_triangle_cost;
+      cost += ch07::half_area_of(child) * count * ch09::k_triangle_cost;
     }
-    cost += half_area(box) * ch09::k_node_cost;
-    if (i == 0) root_area = half_area(box);
+    cost += ch07::half_area_of(box) * ch09::k_node_cost;
+    if (i == 0) root_area = ch07::half_area_of(box);
     stats.depth = std::max(stats.depth, depth[i]);
   }
   if (stats.nodes > 0) stats.children_per_node = double(children) / stats.nodes;
