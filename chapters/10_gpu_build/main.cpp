@@ -180,11 +180,8 @@ int main(int argc, char** argv) {
                "build, and a moving scene's tree rebuilt or refitted every frame",
                "ch10_gpu_build"};
   ChapterOptions options;
-  options.common.width = 1280;
-  options.common.height = 720;
-  options.common.output = "ch10_gpu_build.png";
-  options.query.scene_path = RT_ASSETS_DIR "/torus_knot_100k.obj.gz";
-  options.query.models_dir = RT_MODELS_DIR;
+  ch07::set_tree_program_defaults(options, options.query, "ch10_gpu_build.png", RT_ASSETS_DIR,
+                                  RT_MODELS_DIR);
   ch03::add_program_options(app, options);
   ch07::add_query_options(app, options.query, "every builder's build and rays");
   app.add_option_function<std::string>(
