@@ -27,10 +27,6 @@ namespace {
 using namespace rt;
 using namespace rt::ch11;
 
-// --detail's bound with --moving: chapter 10's k_max_moving_detail (animation.h), the scene
-// within the 10 million triangles a model may have.
-constexpr int k_max_moving_detail_of_ch10 = 3161;
-
 struct ChapterOptions : ch03::ProgramOptions {
   std::string scene_path;
   int spp = 64;
@@ -317,8 +313,8 @@ int main(int argc, char** argv) {
       "headless, --frames frames of it, the image the last one's");
   app.add_option("--detail", options.detail,
                  "With --moving: the torus's segments around (detail^2 triangles, at most " +
-                     std::to_string(k_max_moving_detail_of_ch10) + ": 10 million triangles)")
-      ->check(CLI::Range(8, k_max_moving_detail_of_ch10))
+                     std::to_string(ch10::k_max_moving_detail) + ": 10 million triangles)")
+      ->check(CLI::Range(8, ch10::k_max_moving_detail))
       ->capture_default_str();
   ch03::add_image_only_option(app, options);
   add_help_paragraph(app, "Images: --output x.png writes the tone-mapped picture (--exposure "
