@@ -5,9 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <sstream>
 
+#include "motion.h"
 #include "moving_frames.h"
 #include "rt/backend_array.h"
 #include "rt/cpu_progress.h"
@@ -16,24 +16,15 @@
 namespace rt::ch10 {
 namespace {
 
-constexpr double k_pi = std::numbers::pi;
-
 // [listing:rippling_torus]
-// The torus around the y axis, its tube's radius rippling with time: every vertex moves every
-// frame, and by different amounts, so no box of last frame's tree stays right.
+// The torus around the y axis, its tube's radius rippling with time (torus_vertex, motion.h,
+// in double, each vertex then rounded to float).
 ch04::Mesh rippling_torus(double time, int detail) {
   const int around = detail, across = detail / 2;
   ch04::Mesh torus;
-  for (int i = 0; i < around; ++i) {
-    const double u = 2.0 * k_pi * i / around;
-    for (int j = 0; j < across; ++j) {
-      const double v = 2.0 * k_pi * j / across;
-      const double tube = 0.55 * (1.0 + 0.25 * std::sin(5.0 * u + 3.0 * v - 2.0 * time));
-      const double ring = 2.0 + tube * std::cos(v);
-      torus.vertices.push_back(
-          Vec3d{ring * std::cos(u), tube * std::sin(v), ring * std::sin(u)}.as<float>());
-    }
-  }
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < across; ++j)
+      torus.vertices.push_back(torus_vertex(i, j, around, across, time).as<float>());
   const auto at = [&](int i, int j) { return (i % around) * across + (j % across); };
   for (int i = 0; i < around; ++i)
     for (int j = 0; j < across; ++j) {
@@ -67,7 +58,7 @@ ch04::Mesh fit_moving_model(ch04::Mesh model) {
 ch04::Mesh waving_model(const ch04::Mesh& fitted, double time) {
   ch04::Mesh moved = fitted;
   for (Vec3f& v : moved.vertices)
-    v.y = float(double(v.y) + k_wave_height * std::sin(2.0 * v.x + 1.5 * v.z - 2.0 * time));
+    v.y = float(wave_height(double(v.x), double(v.y), double(v.z), time));
   return moved;
 }
 // [/listing:waving_model]
@@ -81,10 +72,7 @@ ch05::ObjMesh moving_scene_at(double time, int detail, const ch04::Mesh* model) 
   scene.geometry = model ? waving_model(*model, time) : rippling_torus(time, detail);
   scene.material_ids.assign(scene.geometry.triangles.size(), 0);
   for (int k = 0; k < 4; ++k) { // the spheres: rigid motion, each on its own orbit
-    const double phase = time * (0.6 + 0.15 * k) + k * k_pi / 2.0;
-    const Vec3d centre{3.4 * std::cos(phase), 0.9 * std::sin(2.0 * phase),
-                       3.4 * std::sin(phase)};
-    const ch04::Mesh sphere = ch04::make_icosphere(3, centre, 0.45);
+    const ch04::Mesh sphere = ch04::make_icosphere(3, sphere_centre(k, time), 0.45);
     ch04::append_mesh(scene.geometry, sphere);
     scene.material_ids.insert(scene.material_ids.end(), sphere.triangles.size(), 1 + k);
   }

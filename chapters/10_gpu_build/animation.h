@@ -12,6 +12,7 @@
 
 #include "builders.h"
 #include "camera_spec.h"
+#include "motion.h"
 #include "obj_loader.h"
 #include "rt/backend.h"
 #include "rt/image.h"
@@ -48,10 +49,9 @@ ch05::ObjMesh moving_scene_at(double time, int detail, const ch04::Mesh* model =
 // for a model with no triangles.
 ch04::Mesh fit_moving_model(ch04::Mesh model);
 
-// How far a waving model's vertices rise and fall.
-inline constexpr float k_wave_height = 0.15f;
 // The fitted model at `time`: every vertex lifted by a wave that runs across the floor,
-// k_wave_height * sin(2 x + 1.5 z - 2 time): each moves by its own amount, as the torus's do.
+// k_wave_height * sin(2 x + 1.5 z - 2 time) (wave_height, motion.h): each moves by its own
+// amount, as the torus's do.
 ch04::Mesh waving_model(const ch04::Mesh& fitted, double time);
 
 // The animation's pace: 30 frames a second of scene time.

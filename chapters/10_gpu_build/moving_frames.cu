@@ -3,12 +3,12 @@
 
 #include <array>
 #include <chrono>
-#include <numbers>
 #include <optional>
 
 #include "build_passes.cuh"
 #include "builders.h"
 #include "gpu_build.h"
+#include "motion.h"
 #include "rt/timer.h"
 #include "shaded_render.h"
 #include "shaded_scene.h"
@@ -20,11 +20,10 @@ namespace {
 
 using namespace passes;
 
-constexpr float k_pi_f = std::numbers::pi_v<float>;
-
-// Each vertex of the scene at `time`, computed alone: the torus's from its place in the grid
-// (moving_scene_at's rippling_torus, in float) or a model's lifted by waving_model's wave, the
-// spheres' as their rest offsets around their orbiting centres, the floor's where it rests.
+// Each vertex of the scene at `time`, computed alone, by motion.h's templates in float (the
+// host's reference scene takes them in double): the torus's from its place in the grid or a
+// model's lifted by the wave, the spheres' as their rest offsets around their orbiting
+// centres, the floor's where it rests.
 struct MoveVertices {
   const Vec3f*
       rest;   // model: fitted; sphere vertices: offsets from the centre; floor: positions
@@ -38,23 +37,16 @@ struct MoveVertices {
     const int torus = model_vertices > 0 ? model_vertices : around * across;
     if (v < model_vertices) {
       const Vec3f r = rest[v];
-      vertices[v] = {r.x, r.y + k_wave_height * sinf(2.0f * r.x + 1.5f * r.z - 2.0f * time),
-                     r.z};
+      vertices[v] = {r.x, wave_height(r.x, r.y, r.z, time), r.z};
       return;
     }
     if (v < torus) {
-      const float u = 2.0f * k_pi_f * float(v / across) / float(around);
-      const float w = 2.0f * k_pi_f * float(v % across) / float(across);
-      const float tube = 0.55f * (1.0f + 0.25f * sinf(5.0f * u + 3.0f * w - 2.0f * time));
-      const float ring = 2.0f + tube * cosf(w);
-      vertices[v] = {ring * cosf(u), tube * sinf(w), ring * sinf(u)};
+      vertices[v] = torus_vertex(v / across, v % across, around, across, time);
       return;
     }
     const int k = (v - torus) / sphere_vertices;
     if (k < 4) {
-      const float phase = time * (0.6f + 0.15f * float(k)) + float(k) * k_pi_f / 2.0f;
-      const Vec3f centre{3.4f * cosf(phase), 0.9f * sinf(2.0f * phase), 3.4f * sinf(phase)};
-      vertices[v] = centre + rest[v];
+      vertices[v] = sphere_centre(k, time) + rest[v];
       return;
     }
     vertices[v] = rest[v];
