@@ -379,9 +379,10 @@ TEST_CASE("the chi-square test rejects a cosine sampler with a wrong azimuth or 
   }
 }
 
-TEST_CASE("points on a triangle are uniform over its area; without the square root they are "
-          "not",
-          "[ch11]") {
+TEST_CASE(
+    "points on a triangle are uniform over its area, and without the square root they are "
+    "not",
+    "[ch11]") {
   unsigned seed = 200;
   for (const TriangleCase& t : test_triangles()) {
     CAPTURE(t.v0.x, t.v1.x, t.v2.x);
@@ -401,7 +402,7 @@ TEST_CASE("points on a triangle are uniform over its area; without the square ro
 }
 
 TEST_CASE("next-event estimation's points: density luminance / power per area on every "
-          "emitter; a pick by area alone is rejected",
+          "emitter, and a pick by area alone is rejected",
           "[ch11]") {
   const PathScene scene = emitter_scene();
   REQUIRE(scene.lights.triangles == std::vector<int>{0, 1, 2, 3});
@@ -424,7 +425,7 @@ TEST_CASE("next-event estimation's points: density luminance / power per area on
   CHECK(wrong.p_value < k_level);
 }
 
-TEST_CASE("the camera's ray crosses its pixel at a uniform point; a squared offset is "
+TEST_CASE("the camera's ray crosses its pixel at a uniform point, and a squared offset is "
           "rejected",
           "[ch11]") {
   const Extent extent{5, 4};
