@@ -1,6 +1,7 @@
 // Chapter 07 program-test cases, shared with chapters 08 to 10, whose programs speak its query
-// flags: rays from inside the course's Cornell room, a ray file sent through a program, and
-// refusals of flags given with --window.
+// flags: rays from inside the course's Cornell room, a ray file sent through a program, the
+// command lines the tables of refused flags start from, and refusals of flags given with
+// --window.
 #pragma once
 
 #include <cmath>
@@ -43,6 +44,29 @@ inline std::string room_ray_file(const std::filesystem::path& folder) {
   const std::string path = (folder / "fan.bin").string();
   ch07::write_ray_file(path, room_ray_fan(8));
   return path;
+}
+
+// The command lines that the tables of refused flags of chapters 07 to 10 start from, and the
+// files they name, in a temporary folder named after `prefix`: a ray-file query, a dump of the
+// protocol's hits and a small benchmark, each of `room`.
+struct QueryCommandLines {
+  std::filesystem::path folder;
+  std::string rays, hits, image, json; // a small valid ray file; outputs that are never written
+  std::string ray_query, dump, bench;
+};
+
+inline QueryCommandLines query_command_lines(const std::string& prefix,
+                                             const std::string& room) {
+  QueryCommandLines q;
+  q.folder = temp_folder(prefix);
+  q.rays = room_ray_file(q.folder);
+  q.hits = (q.folder / "flag_hits.bin").string();
+  q.image = (q.folder / "flag.png").string();
+  q.json = (q.folder / "flag.json").string();
+  q.ray_query = "--scene " + room + " --rays " + q.rays + " --hits " + q.hits;
+  q.dump = "--scene " + room + " --width 8 --height 8 --dump-hits " + q.hits;
+  q.bench = "--width 8 --height 8 --frames 1 --benchmark " + room;
+  return q;
 }
 
 // check_refused for `program` run with --backend cpu --window before each case's arguments

@@ -170,58 +170,52 @@ TEST_CASE("program: a benchmark set with models missing names them and measures 
 }
 
 TEST_CASE("program: a flag that does nothing in the mode asked for is refused", "[ch07]") {
-  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch07");
-  const std::string rays = rt::testing::room_ray_file(folder);
-  const std::string hits = (folder / "flag_hits.bin").string();
-  const std::string image = (folder / "flag.png").string();
-  const std::string json = (folder / "flag.json").string();
-  const std::string ray_query = "--scene " + k_room + " --rays " + rays + " --hits " + hits;
-  const std::string dump = "--scene " + k_room + " --width 8 --height 8 --dump-hits " + hits;
-  const std::string bench = "--width 8 --height 8 --frames 1 --benchmark " + k_room;
+  const rt::testing::QueryCommandLines q = rt::testing::query_command_lines("rt_ch07", k_room);
   const rt::testing::RefusedInput cases[] = {
-      {bench + " --output " + image, 2, "--output does nothing with --benchmark"},
-      {bench + " -o " + image, 2, "--output does nothing with --benchmark"},
-      {bench + " --image-only", 2, "--image-only does nothing with --benchmark"},
-      {"--benchmark --scene " + k_room + " --models " + folder.string(), 2,
+      {q.bench + " --output " + q.image, 2, "--output does nothing with --benchmark"},
+      {q.bench + " -o " + q.image, 2, "--output does nothing with --benchmark"},
+      {q.bench + " --image-only", 2, "--image-only does nothing with --benchmark"},
+      {"--benchmark --scene " + k_room + " --models " + q.folder.string(), 2,
        "--scene does nothing with --benchmark"},
-      {bench + " --eye 1,2,3", 2, "--eye does nothing with --benchmark"},
-      {bench + " --camera orthographic", 2, "--camera does nothing with --benchmark"},
-      {bench + " --shading flat", 2, "--shading does nothing with --benchmark"},
-      {bench + " --heat-map", 2, "--heat-map does nothing with --benchmark"},
-      {bench + " --reference-pixels 8", 2, "--reference-pixels does nothing with --benchmark"},
-      {bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
-      {ray_query + " --output " + image, 2, "--output does nothing with --rays"},
-      {ray_query + " --image-only", 2, "--image-only does nothing with --rays"},
-      {ray_query + " --json " + json, 2, "--json does nothing with --rays"},
-      {ray_query + " --frames 3", 2, "--frames does nothing with --rays"},
-      {ray_query + " --width 64", 2, "--width does nothing with --rays"},
-      {ray_query + " --eye 0,1,0.5", 2, "--eye does nothing with --rays"},
-      {ray_query + " --shadows off", 2, "--shadows does nothing with --rays"},
-      {dump + " --json " + json, 2, "--json does nothing with --dump-hits"},
-      {dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
-      {dump + " --up 0,0,1", 2, "--up does nothing with --dump-hits"},
-      {dump + " --output " + image, 2, "--output does nothing with --dump-hits"},
-      {dump + " --frames 3", 2, "--frames does nothing with --dump-hits"},
-      {dump + " --reference-pixels 8", 2, "--reference-pixels does nothing with --dump-hits"},
-      {"--image-only --variant moller-trumbore --output " + image, 2,
+      {q.bench + " --eye 1,2,3", 2, "--eye does nothing with --benchmark"},
+      {q.bench + " --camera orthographic", 2, "--camera does nothing with --benchmark"},
+      {q.bench + " --shading flat", 2, "--shading does nothing with --benchmark"},
+      {q.bench + " --heat-map", 2, "--heat-map does nothing with --benchmark"},
+      {q.bench + " --reference-pixels 8", 2,
+       "--reference-pixels does nothing with --benchmark"},
+      {q.bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
+      {q.ray_query + " --output " + q.image, 2, "--output does nothing with --rays"},
+      {q.ray_query + " --image-only", 2, "--image-only does nothing with --rays"},
+      {q.ray_query + " --json " + q.json, 2, "--json does nothing with --rays"},
+      {q.ray_query + " --frames 3", 2, "--frames does nothing with --rays"},
+      {q.ray_query + " --width 64", 2, "--width does nothing with --rays"},
+      {q.ray_query + " --eye 0,1,0.5", 2, "--eye does nothing with --rays"},
+      {q.ray_query + " --shadows off", 2, "--shadows does nothing with --rays"},
+      {q.dump + " --json " + q.json, 2, "--json does nothing with --dump-hits"},
+      {q.dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
+      {q.dump + " --up 0,0,1", 2, "--up does nothing with --dump-hits"},
+      {q.dump + " --output " + q.image, 2, "--output does nothing with --dump-hits"},
+      {q.dump + " --frames 3", 2, "--frames does nothing with --dump-hits"},
+      {q.dump + " --reference-pixels 8", 2, "--reference-pixels does nothing with --dump-hits"},
+      {"--image-only --variant moller-trumbore --output " + q.image, 2,
        "--variant does nothing with --image-only"},
-      {"--image-only --reference-pixels 8 --output " + image, 2,
+      {"--image-only --reference-pixels 8 --output " + q.image, 2,
        "--reference-pixels does nothing with --image-only"},
       {"--check-rays 16", 2, "--check-rays goes with --benchmark"},
       {"--end-to-end off", 2, "--end-to-end goes with --benchmark"},
-      {bench + " --models " + folder.string(), 2, "--models does nothing with SCENE files"},
-      {"--split median --bins 8 --image-only --output " + image, 2,
+      {q.bench + " --models " + q.folder.string(), 2, "--models does nothing with SCENE files"},
+      {"--split median --bins 8 --image-only --output " + q.image, 2,
        "--bins does nothing with --split median"},
-      {"--heat-map --shading flat --image-only --output " + image, 2,
+      {"--heat-map --shading flat --image-only --output " + q.image, 2,
        "--shading does nothing with --heat-map"},
   };
   rt::testing::check_refused(run_program, cases);
 
   const rt::testing::RefusedInput window_cases[] = {
-      {bench, 2, "--window does nothing with --benchmark"},
-      {ray_query, 2, "--window does nothing with --rays"},
-      {dump, 2, "--window does nothing with --dump-hits"},
-      {"--image-only --output " + image, 2, "--image-only does nothing with --window"},
+      {q.bench, 2, "--window does nothing with --benchmark"},
+      {q.ray_query, 2, "--window does nothing with --rays"},
+      {q.dump, 2, "--window does nothing with --dump-hits"},
+      {"--image-only --output " + q.image, 2, "--image-only does nothing with --window"},
       {"--variant moller-trumbore", 2, "--variant does nothing with --window"},
       {"--reference-pixels 8", 2, "--reference-pixels does nothing with --window"},
   };

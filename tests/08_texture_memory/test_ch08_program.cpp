@@ -92,35 +92,28 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch08]
 }
 
 TEST_CASE("program: a flag that does nothing in the mode asked for is refused", "[ch08]") {
-  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch08");
-  const std::string rays = rt::testing::room_ray_file(folder);
-  const std::string hits = (folder / "flag_hits.bin").string();
-  const std::string image = (folder / "flag.png").string();
-  const std::string json = (folder / "flag.json").string();
-  const std::string ray_query = "--scene " + k_room + " --rays " + rays + " --hits " + hits;
-  const std::string dump = "--scene " + k_room + " --width 8 --height 8 --dump-hits " + hits;
-  const std::string bench = "--width 8 --height 8 --frames 1 --benchmark " + k_room;
+  const rt::testing::QueryCommandLines q = rt::testing::query_command_lines("rt_ch08", k_room);
   const rt::testing::RefusedInput cases[] = {
-      {bench + " --reference-rays 8", 2, "--reference-rays does nothing with --benchmark"},
-      {bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
-      {bench + " --output " + image, 2, "--output does nothing with --benchmark"},
-      {bench + " --fov 30", 2, "--fov does nothing with --benchmark"},
-      {"--benchmark --scene " + k_room + " --models " + folder.string(), 2,
+      {q.bench + " --reference-rays 8", 2, "--reference-rays does nothing with --benchmark"},
+      {q.bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
+      {q.bench + " --output " + q.image, 2, "--output does nothing with --benchmark"},
+      {q.bench + " --fov 30", 2, "--fov does nothing with --benchmark"},
+      {"--benchmark --scene " + k_room + " --models " + q.folder.string(), 2,
        "--scene does nothing with --benchmark"},
-      {ray_query + " --json " + json, 2, "--json does nothing with --rays"},
-      {ray_query + " --reference-rays 8", 2, "--reference-rays does nothing with --rays"},
-      {ray_query + " --height 8", 2, "--height does nothing with --rays"},
-      {dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
-      {dump + " --image-only", 2, "--image-only does nothing with --dump-hits"},
-      {"--image-only --memory float4 --output " + image, 2,
+      {q.ray_query + " --json " + q.json, 2, "--json does nothing with --rays"},
+      {q.ray_query + " --reference-rays 8", 2, "--reference-rays does nothing with --rays"},
+      {q.ray_query + " --height 8", 2, "--height does nothing with --rays"},
+      {q.dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
+      {q.dump + " --image-only", 2, "--image-only does nothing with --dump-hits"},
+      {"--image-only --memory float4 --output " + q.image, 2,
        "--memory does nothing with --image-only"},
-      {"--image-only --skip-cpu --output " + image, 2,
+      {"--image-only --skip-cpu --output " + q.image, 2,
        "--skip-cpu does nothing with --image-only"},
   };
   rt::testing::check_refused(run_program, cases);
   const rt::testing::RefusedInput window_cases[] = {
-      {bench, 2, "--window does nothing with --benchmark"},
-      {ray_query, 2, "--window does nothing with --rays"},
+      {q.bench, 2, "--window does nothing with --benchmark"},
+      {q.ray_query, 2, "--window does nothing with --rays"},
       {"--memory float4", 2, "--memory does nothing with --window"},
       {"--reference-rays 8", 2, "--reference-rays does nothing with --window"},
   };

@@ -175,34 +175,27 @@ TEST_CASE("program: the benchmark's report states the runs --frames asked for", 
 }
 
 TEST_CASE("program: a flag that does nothing in the mode asked for is refused", "[ch09]") {
-  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
-  const std::string rays = rt::testing::room_ray_file(folder);
-  const std::string hits = (folder / "flag_hits.bin").string();
-  const std::string image = (folder / "flag.png").string();
-  const std::string json = (folder / "flag.json").string();
-  const std::string ray_query = "--scene " + k_room + " --rays " + rays + " --hits " + hits;
-  const std::string dump = "--scene " + k_room + " --width 8 --height 8 --dump-hits " + hits;
-  const std::string bench = "--width 8 --height 8 --frames 1 --benchmark " + k_room;
+  const rt::testing::QueryCommandLines q = rt::testing::query_command_lines("rt_ch09", k_room);
   const rt::testing::RefusedInput cases[] = {
-      {ray_query + " --output " + image, 2, "--output does nothing with --rays"},
-      {ray_query + " -o " + image, 2, "--output does nothing with --rays"},
-      {ray_query + " --image-only", 2, "--image-only does nothing with --rays"},
-      {ray_query + " --reference-rays 8", 2, "--reference-rays does nothing with --rays"},
-      {ray_query + " --json " + json, 2, "--json does nothing with --rays"},
-      {dump + " --json " + json, 2, "--json does nothing with --dump-hits"},
-      {dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
-      {bench + " --reference-rays 8", 2, "--reference-rays does nothing with --benchmark"},
-      {bench + " --image-only", 2, "--image-only does nothing with --benchmark"},
-      {bench + " --target 0,0,0", 2, "--target does nothing with --benchmark"},
-      {"--benchmark --scene " + k_room + " --models " + folder.string(), 2,
+      {q.ray_query + " --output " + q.image, 2, "--output does nothing with --rays"},
+      {q.ray_query + " -o " + q.image, 2, "--output does nothing with --rays"},
+      {q.ray_query + " --image-only", 2, "--image-only does nothing with --rays"},
+      {q.ray_query + " --reference-rays 8", 2, "--reference-rays does nothing with --rays"},
+      {q.ray_query + " --json " + q.json, 2, "--json does nothing with --rays"},
+      {q.dump + " --json " + q.json, 2, "--json does nothing with --dump-hits"},
+      {q.dump + " --camera orthographic", 2, "--camera does nothing with --dump-hits"},
+      {q.bench + " --reference-rays 8", 2, "--reference-rays does nothing with --benchmark"},
+      {q.bench + " --image-only", 2, "--image-only does nothing with --benchmark"},
+      {q.bench + " --target 0,0,0", 2, "--target does nothing with --benchmark"},
+      {"--benchmark --scene " + k_room + " --models " + q.folder.string(), 2,
        "--scene does nothing with --benchmark"},
-      {"--image-only --tracer wide8 --output " + image, 2,
+      {"--image-only --tracer wide8 --output " + q.image, 2,
        "--tracer does nothing with --image-only"},
   };
   rt::testing::check_refused(run_program, cases);
   const rt::testing::RefusedInput window_cases[] = {
-      {bench, 2, "--window does nothing with --benchmark"},
-      {dump, 2, "--window does nothing with --dump-hits"},
+      {q.bench, 2, "--window does nothing with --benchmark"},
+      {q.dump, 2, "--window does nothing with --dump-hits"},
       {"--tracer wide8", 2, "--tracer does nothing with --window"},
       {"--skip-cpu", 2, "--skip-cpu does nothing with --window"},
   };

@@ -205,31 +205,24 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch10]
 }
 
 TEST_CASE("program: a flag that does nothing in the mode asked for is refused", "[ch10]") {
-  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch10");
-  const std::string rays = rt::testing::room_ray_file(folder);
-  const std::string hits = (folder / "flag_hits.bin").string();
-  const std::string image = (folder / "flag.png").string();
-  const std::string json = (folder / "flag.json").string();
-  const std::string ray_query = "--scene " + k_room + " --rays " + rays + " --hits " + hits;
-  const std::string dump = "--scene " + k_room + " --width 8 --height 8 --dump-hits " + hits;
-  const std::string bench = "--width 8 --height 8 --frames 1 --benchmark " + k_room;
+  const rt::testing::QueryCommandLines q = rt::testing::query_command_lines("rt_ch10", k_room);
   const rt::testing::RefusedInput cases[] = {
-      {bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
-      {bench + " --output " + image, 2, "--output does nothing with --benchmark"},
-      {bench + " --up 0,0,1", 2, "--up does nothing with --benchmark"},
-      {"--benchmark --scene " + k_room + " --models " + folder.string(), 2,
+      {q.bench + " --skip-cpu", 2, "--skip-cpu does nothing with --benchmark"},
+      {q.bench + " --output " + q.image, 2, "--output does nothing with --benchmark"},
+      {q.bench + " --up 0,0,1", 2, "--up does nothing with --benchmark"},
+      {"--benchmark --scene " + k_room + " --models " + q.folder.string(), 2,
        "--scene does nothing with --benchmark"},
-      {ray_query + " --json " + json, 2, "--json does nothing with --rays"},
-      {ray_query + " --frames 2", 2, "--frames does nothing with --rays"},
-      {dump + " --json " + json, 2, "--json does nothing with --dump-hits"},
-      {dump + " --output " + image, 2, "--output does nothing with --dump-hits"},
-      {"--image-only --builder ploc --output " + image, 2,
+      {q.ray_query + " --json " + q.json, 2, "--json does nothing with --rays"},
+      {q.ray_query + " --frames 2", 2, "--frames does nothing with --rays"},
+      {q.dump + " --json " + q.json, 2, "--json does nothing with --dump-hits"},
+      {q.dump + " --output " + q.image, 2, "--output does nothing with --dump-hits"},
+      {"--image-only --builder ploc --output " + q.image, 2,
        "--builder does nothing with --image-only"},
   };
   rt::testing::check_refused(run_program, cases);
   const rt::testing::RefusedInput window_cases[] = {
-      {bench, 2, "--window does nothing with --benchmark"},
-      {ray_query, 2, "--window does nothing with --rays"},
+      {q.bench, 2, "--window does nothing with --benchmark"},
+      {q.ray_query, 2, "--window does nothing with --rays"},
       {"--builder ploc", 2, "--builder does nothing with --window"},
   };
   rt::testing::check_refused_with_window(RT_CH10_PROGRAM, window_cases);
