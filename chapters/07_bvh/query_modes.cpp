@@ -311,10 +311,10 @@ int run_benchmark_mode(const BenchmarkMode& mode, const QueryOptions& query,
   // A set with models missing is measured on the others: said at the start, not only in the
   // report at the end.
   if (!scenes.missing.empty())
-    std::cerr << "warning: --benchmark: " << query.models_dir << " holds "
-              << scenes.paths.size() << " of the benchmark set's " << std::size(k_benchmark_set)
-              << " scenes; measuring those, without " << joined(scenes.missing)
-              << " (tools/get-models.sh fetches them)" << std::endl;
+    warn("--benchmark: " + query.models_dir + " holds " + std::to_string(scenes.paths.size()) +
+         " of the benchmark set's " + std::to_string(std::size(k_benchmark_set)) +
+         " scenes; measuring those, without " + joined(scenes.missing) +
+         " (tools/get-models.sh fetches them)");
   const std::vector<SceneResult> results =
       run_benchmark(scenes.paths, mode.tracers(report), runner, report);
   finish_report(report, program.common);

@@ -43,11 +43,6 @@ struct ChapterOptions : ch03::ProgramOptions {
   bool up_given = false;
 };
 
-void warn(const std::string& what) {
-  std::cout.flush(); // the warning lands between the lines it belongs between
-  std::cerr << "warning: " << what << std::endl;
-}
-
 // --sun's direction as a unit vector. Scaled by its largest component first, in double, so
 // that 1e300,1,0 (whose squares overflow) and 1e-300,1e-300,0 (whose squares are zero) are
 // directions like any other; zero and numbers that are not finite are refused.

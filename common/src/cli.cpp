@@ -79,6 +79,11 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                           "whole run succeeds: a failed run leaves what was at every path.");
 }
 
+void warn(const std::string& what) {
+  std::cout.flush(); // the warning lands between the lines it belongs between
+  std::cerr << "warning: " << what << std::endl;
+}
+
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   const std::string program = app.get_name().empty() ? "rt" : app.get_name();
   auto fail = [&](const std::string& message, int code) {

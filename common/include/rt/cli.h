@@ -50,11 +50,15 @@ void add_image_size_options(CLI::App& app, int& width, int& height);
 // `app`.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
+// Something the reader should know that does not stop the run, as one line on stderr:
+// "warning: <what>", after whatever stdout has printed so far.
+void warn(const std::string& what);
+
 // Parses the command line and runs `body`. Prints "<program>: error: <message>" on any error
 // and returns the exit code: 0 success, 1 runtime error, 2 bad usage.
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
-// The same for a chapter's program: once parsed, an --output that names no .png or .pfm file
-// fails before any work is done.
+// The same for a chapter's program: once parsed, an --output that names no .png, .pfm or .exr
+// file, and a --json that could never be written, fail before any work is done.
 int run_main(CLI::App& app, int argc, char** argv, const CommonOptions& options,
              const std::function<int()>& body);
 
