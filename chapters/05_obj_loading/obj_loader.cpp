@@ -149,14 +149,30 @@ bool is_finite_decimal(std::string_view text) {
   return i == text.size() && std::isfinite(std::strtod(std::string(text).c_str(), nullptr));
 }
 
-// The Kd and Ke statements of an .mtl text that are not three finite numbers, the first of
-// each material, by the material's name as tinyobjloader reads it (lines end at \n, \r or
-// both; the name is the rest of the `newmtl` line after one blank, trailing blanks cut).
-// Statements before the first `newmtl` belong to no material.
-std::map<std::string, std::string> unreadable_colours(std::string_view text) {
-  std::map<std::string, std::string> unreadable;
-  std::string material;
-  bool named = false;
+// True when `text` is a decimal integer as tinyobjloader reads one ("7", "-2"), of at most
+// nine digits (an int holds it).
+bool is_decimal_integer(std::string_view text) {
+  if (!text.empty() && (text[0] == '+' || text[0] == '-')) text.remove_prefix(1);
+  return !text.empty() && text.size() <= 9 &&
+         std::ranges::all_of(text, [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// What the statements of one material in an .mtl text say that tinyobjloader's numbers hide:
+// the first Kd or Ke that is not three finite numbers, the first statement of the PBR and
+// glass values (Pm, Pr, Ni, Tf or Kt, d or Tr, illum) whose values are not what it takes, and
+// which of those values the text gives at all.
+struct MaterialStatements {
+  std::string unreadable, unreadable_pbr;
+  bool has_metallic = false, has_roughness = false, has_ior = false, has_illum = false;
+  bool has_transmittance = false, has_dissolve = false;
+};
+
+// The statements of every material of an .mtl text, by the material's name as tinyobjloader
+// reads it (lines end at \n, \r or both; the name is the rest of the `newmtl` line after one
+// blank, trailing blanks cut). Statements before the first `newmtl` belong to no material.
+std::map<std::string, MaterialStatements> scan_material_statements(std::string_view text) {
+  std::map<std::string, MaterialStatements> found;
+  MaterialStatements* material = nullptr;
   while (!text.empty()) {
     const std::size_t end = std::min(text.find_first_of("\r\n"), text.size());
     std::string_view line = text.substr(0, end);
@@ -165,24 +181,50 @@ std::map<std::string, std::string> unreadable_colours(std::string_view text) {
     line.remove_prefix(std::min(line.find_first_not_of(" \t"), line.size()));
     const auto is_blank = [](char c) { return c == ' ' || c == '\t'; };
     if (line.size() > 6 && line.starts_with("newmtl") && is_blank(line[6])) {
-      material = std::string(line.substr(7));
-      named = true;
+      material = &found[std::string(line.substr(7))];
       continue;
     }
-    if (!named || line.size() < 3 || !is_blank(line[2]) ||
-        !(line.starts_with("Kd") || line.starts_with("Ke")) || unreadable.contains(material))
-      continue;
+    const std::size_t keyword_end = std::min(line.find_first_of(" \t"), line.size());
+    const std::string_view keyword = line.substr(0, keyword_end);
+    if (material == nullptr || keyword_end == line.size()) continue;
     std::vector<std::string_view> values;
-    for (std::string_view rest = line.substr(3); !rest.empty();) {
+    for (std::string_view rest = line.substr(keyword_end); !rest.empty();) {
       rest.remove_prefix(std::min(rest.find_first_not_of(" \t"), rest.size()));
       const std::size_t length = std::min(rest.find_first_of(" \t"), rest.size());
       if (length > 0) values.push_back(rest.substr(0, length));
       rest.remove_prefix(length);
     }
-    if (values.size() != 3 || !std::ranges::all_of(values, is_finite_decimal))
-      unreadable.emplace(material, std::string(line));
+    const auto numbers = [&](std::size_t count) {
+      return values.size() == count && std::ranges::all_of(values, is_finite_decimal);
+    };
+    bool readable = true;
+    if (keyword == "Kd" || keyword == "Ke") {
+      if (material->unreadable.empty() && !numbers(3)) material->unreadable = std::string(line);
+      continue;
+    }
+    if (keyword == "Pm") {
+      material->has_metallic = true;
+      readable = numbers(1);
+    } else if (keyword == "Pr") {
+      material->has_roughness = true;
+      readable = numbers(1);
+    } else if (keyword == "Ni") {
+      material->has_ior = true;
+      readable = numbers(1);
+    } else if (keyword == "Tf" || keyword == "Kt") {
+      material->has_transmittance = true;
+      readable = numbers(3);
+    } else if (keyword == "d" || keyword == "Tr") {
+      material->has_dissolve = true;
+      readable = numbers(1);
+    } else if (keyword == "illum") {
+      material->has_illum = true;
+      readable = values.size() == 1 && is_decimal_integer(values[0]);
+    }
+    if (!readable && material->unreadable_pbr.empty())
+      material->unreadable_pbr = std::string(line);
   }
-  return unreadable;
+  return found;
 }
 
 // Reads the .mtl files that `mtllib` names, from the OBJ file's folder. tinyobjloader asks for
@@ -190,7 +232,8 @@ std::map<std::string, std::string> unreadable_colours(std::string_view text) {
 // so the faces that use them get material id -1. That is this chapter's rule for a missing
 // .mtl: the geometry is still right, and a renderer can draw those faces in a default material;
 // the reader is told, in a warning. Each material is kept with its file and with what the
-// text's Kd and Ke hold that tinyobjloader's numbers hide (ObjMaterial::unreadable).
+// text holds that tinyobjloader's numbers hide (ObjMaterial::unreadable, unreadable_pbr and
+// the `has_` flags).
 class MaterialFolder final : public tinyobj::MaterialReader {
 public:
   MaterialFolder(std::filesystem::path folder, std::string obj_name, const LoadLimits& limits)
@@ -215,15 +258,9 @@ public:
     std::string notes;
     tinyobj::LoadMtl(names, materials, &stream, &notes, errors);
     add_lines(warnings_, path.string(), notes);
-    const std::map<std::string, std::string> unreadable = unreadable_colours(text);
-    for (std::size_t k = first; k < materials->size(); ++k) {
-      const tinyobj::material_t& m = (*materials)[k];
-      const auto found = unreadable.find(m.name);
-      materials_.push_back({m.name, path.string(),
-                            Vec3d{m.diffuse[0], m.diffuse[1], m.diffuse[2]},
-                            Vec3d{m.emission[0], m.emission[1], m.emission[2]},
-                            found == unreadable.end() ? std::string() : found->second});
-    }
+    const std::map<std::string, MaterialStatements> statements = scan_material_statements(text);
+    for (std::size_t k = first; k < materials->size(); ++k)
+      materials_.push_back(obj_material((*materials)[k], path.string(), statements));
     return true;
   }
 
@@ -242,6 +279,37 @@ public:
   }
 
 private:
+  static ObjMaterial obj_material(const tinyobj::material_t& m, const std::string& file,
+                                  const std::map<std::string, MaterialStatements>& statements) {
+    ObjMaterial material;
+    material.name = m.name;
+    material.file = file;
+    material.diffuse = {m.diffuse[0], m.diffuse[1], m.diffuse[2]};
+    material.emission = {m.emission[0], m.emission[1], m.emission[2]};
+    material.metallic = m.metallic;
+    material.roughness = m.roughness;
+    material.ior = m.ior;
+    material.illum = m.illum;
+    material.transmittance = {m.transmittance[0], m.transmittance[1], m.transmittance[2]};
+    material.dissolve = m.dissolve;
+    material.diffuse_texture = m.diffuse_texname;
+    material.roughness_texture = m.roughness_texname;
+    material.metallic_texture = m.metallic_texname;
+    material.emission_texture = m.emissive_texname;
+    if (const auto found = statements.find(m.name); found != statements.end()) {
+      const MaterialStatements& s = found->second;
+      material.unreadable = s.unreadable;
+      material.unreadable_pbr = s.unreadable_pbr;
+      material.has_metallic = s.has_metallic;
+      material.has_roughness = s.has_roughness;
+      material.has_ior = s.has_ior;
+      material.has_illum = s.has_illum;
+      material.has_transmittance = s.has_transmittance;
+      material.has_dissolve = s.has_dissolve;
+    }
+    return material;
+  }
+
   bool missing(const std::string& file, const std::filesystem::path& path) {
     warnings_.push_back(obj_name_ + ": mtllib " + file + ": no such file (" + path.string() +
                         "); the faces that use its materials get the default material");

@@ -37,6 +37,29 @@ struct ObjMaterial {
   // numbers in the text ("Ke inf 1 1"): tinyobjloader reads what it cannot parse as 0 and a
   // number too large for a double as infinity, so the colours above cannot tell.
   std::string unreadable;
+
+  // What a renderer of physically based materials reads (chapter 12): the PBR extension of
+  // MTL (Pm, Pr, map_Pm, map_Pr), the classic statements of glass (Ni, Tf, illum, d) and the
+  // texture maps of the colours, as tinyobjloader parsed them. Where the file gives none, the
+  // value is tinyobjloader's default, shown after each; the `given` flags below tell the two
+  // apart ("Pm 0" and no Pm read alike).
+  double metallic = 0.0;         // Pm
+  double roughness = 0.0;        // Pr
+  double ior = 1.0;              // Ni
+  int illum = 0;                 // illum: 7 is refracting glass
+  Vec3d transmittance{};         // Tf (or Kt): the colour light keeps passing through
+  double dissolve = 1.0;         // d (or 1 - Tr): 1 is opaque
+  std::string diffuse_texture;   // map_Kd, the file name as written (relative to `file`)
+  std::string roughness_texture; // map_Pr
+  std::string metallic_texture;  // map_Pm
+  std::string emission_texture;  // map_Ke
+  // Which of the statements above the material's text holds, from a scan of the text that
+  // also fills `unreadable_pbr` (tinyobjloader cannot tell a default from a value).
+  bool has_metallic = false, has_roughness = false, has_ior = false, has_illum = false;
+  bool has_transmittance = false, has_dissolve = false;
+  // Empty, or the first Pm, Pr, Ni, Tf, Kt, d, Tr or illum statement whose values are not
+  // what it takes: one finite number (three for Tf and Kt, an integer for illum).
+  std::string unreadable_pbr;
 };
 
 // A loaded mesh. Triangle i of `geometry` has corner normals normal_indices[i] and corner
