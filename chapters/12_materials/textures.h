@@ -119,6 +119,9 @@ struct TextureView {
   bool srgb = true;
 };
 
+// The view of `image` whose texels are at `texels`: its own, or a copy in device memory.
+TextureView view_of(const TextureImage& image, const Rgba8* texels);
+
 // A scene's textures for one backend and one filter.
 struct TextureTable {
   const TextureView* views = nullptr;           // count of them
