@@ -9,8 +9,8 @@
 
 namespace rt::ch11 {
 
-Reference render_reference(PathRenderer& renderer, const CameraSpec& camera, Extent extent,
-                           int samples) {
+Reference render_reference(ProgressiveRenderer& renderer, const CameraSpec& camera,
+                           Extent extent, int samples) {
   const CpuWorkName name("float64 reference");
   const auto start = std::chrono::steady_clock::now();
   Reference reference;
@@ -56,7 +56,7 @@ ImageError image_error(const std::vector<Vec3f>& image, const std::vector<double
 }
 // [/listing:rel_mse]
 
-std::vector<ConvergencePoint> measure_convergence(PathRenderer& renderer,
+std::vector<ConvergencePoint> measure_convergence(ProgressiveRenderer& renderer,
                                                   const RenderSettings& settings,
                                                   const CameraSpec& camera, Extent extent,
                                                   int max_samples, const Reference& reference) {

@@ -25,8 +25,8 @@ struct Reference {
 // float64 in passes of at most k_reference_pass samples, whose float sums stay accurate.
 inline constexpr unsigned k_reference_first_sample = 1u << 30;
 inline constexpr int k_reference_pass = 16;
-Reference render_reference(PathRenderer& renderer, const CameraSpec& camera, Extent extent,
-                           int samples);
+Reference render_reference(ProgressiveRenderer& renderer, const CameraSpec& camera,
+                           Extent extent, int samples);
 
 struct ImageError {
   double rmse = 0.0;    // root mean square of (x - ref) over pixels and channels
@@ -43,7 +43,7 @@ struct ConvergencePoint {
 };
 
 // The variant's image at 1, 2, 4, ... max_samples samples per pixel.
-std::vector<ConvergencePoint> measure_convergence(PathRenderer& renderer,
+std::vector<ConvergencePoint> measure_convergence(ProgressiveRenderer& renderer,
                                                   const RenderSettings& settings,
                                                   const CameraSpec& camera, Extent extent,
                                                   int max_samples, const Reference& reference);

@@ -126,7 +126,9 @@ int run(ChapterOptions& options) {
   const PathScene scene = load_scene(options, camera);
   ch03::validate_camera(camera);
   if (options.convergence) {
-    finish_report(convergence_report(scene, backend, camera, options.common.extent(),
+    PathRenderer renderer(scene, backend);
+    finish_report(convergence_report(renderer, "Chapter 11: error against run time",
+                                     scene.description, camera, options.common.extent(),
                                      options.spp, options.reference_spp),
                   options.common);
     return 0;

@@ -10,11 +10,12 @@
 #include "collapse.h"
 #include "gpu_build.h"
 #include "path_dispatch.h"
+#include "path_kernels.cuh"
 #include "rt/backend_image.h"
 #include "rt/cuda_check.h"
 #include "rt/error.h"
 #include "rt/kernel_info.h"
-#include "wavefront.h"
+#include "wavefront_stages.cuh"
 #include "wide_collapse.h"
 
 namespace rt::ch11 {
@@ -79,89 +80,6 @@ std::string describe_path_features(unsigned features) {
 
 namespace {
 
-// [listing:megakernel_pixel]
-// One pixel of the megakernel: its samples one after another, each added to the running sum.
-template <class F> struct MegakernelPixel {
-  PathSceneView scene;
-  F features;
-  Strategy strategy;
-  ch03::Camera<float> camera;
-  unsigned first_sample;
-  int samples;
-  float4* sums;
-  unsigned* non_finite;
-
-  RT_HD void operator()(int x, int y) const {
-    const int index = y * camera.pinhole.width + x;
-    float4 sum = sums[index];
-    for (int s = 0; s < samples; ++s)
-      add_sample(
-          sum, trace_path(scene, features, strategy, camera, x, y, first_sample + unsigned(s)),
-          non_finite);
-    sums[index] = sum;
-  }
-};
-// [/listing:megakernel_pixel]
-
-// [listing:persistent_paths]
-// The persistent megakernel (Aila & Laine 2009's persistent threads, with the path
-// regeneration of Novak et al. 2010). In the megakernel a warp runs until the longest of its
-// 32 paths ends, the lanes of the shorter ones idle; here a lane whose path ended takes the
-// next one. The lanes that need a path take them together, one atomic per warp; paths are
-// numbered in tiles of pixels, a warp's worth each, so that a warp's camera rays start
-// coherent. One sample per launch: each pixel's sum gets one path, in sample order as in the
-// megakernel.
-constexpr unsigned k_warp_lanes = 32;
-constexpr unsigned k_tile_width = 8, k_tile_height = 4; // pixels
-static_assert(k_tile_width * k_tile_height == k_warp_lanes, "a tile is one warp's paths");
-
-template <class F>
-__global__ void persistent_paths_kernel(PathSceneView scene, F features, Strategy strategy,
-                                        ch03::Camera<float> camera, unsigned sample,
-                                        float4* sums, unsigned* non_finite,
-                                        unsigned* next_path) {
-  const int width = camera.pinhole.width, height = camera.pinhole.height;
-  const unsigned tiles_x = (unsigned(width) + k_tile_width - 1) / k_tile_width;
-  const unsigned tiles_y = (unsigned(height) + k_tile_height - 1) / k_tile_height;
-  const unsigned paths = tiles_x * tiles_y * k_warp_lanes;
-  const unsigned lane = threadIdx.x % k_warp_lanes;
-  PathState path{};
-  bool alive = false;
-  for (;;) {
-    const unsigned active = __activemask();
-    const unsigned idle = __ballot_sync(active, !alive);
-    if (idle != 0) {
-      const int leader = __ffs(int(idle)) - 1;
-      unsigned first = 0;
-      if (int(lane) == leader) first = atomicAdd(next_path, unsigned(__popc(int(idle))));
-      first = __shfl_sync(active, first, leader);
-      if (!alive) {
-        const unsigned index = first + unsigned(__popc(int(idle & ((1u << lane) - 1u))));
-        if (index >= paths) break; // every path is taken
-        const unsigned tile = index / k_warp_lanes, within = index % k_warp_lanes;
-        const int x = int((tile % tiles_x) * k_tile_width + within % k_tile_width);
-        const int y = int((tile / tiles_x) * k_tile_height + within / k_tile_width);
-        if (x >= width || y >= height) continue; // a tile's part outside the image
-        path = start_path(camera, x, y, sample);
-        alive = true;
-      }
-    }
-    alive = extend_path(scene, features, strategy, path);
-    if (!alive) {
-      float4 sum = sums[path.pixel];
-      add_sample(sum, path.radiance, non_finite);
-      sums[path.pixel] = sum;
-    }
-  }
-}
-// [/listing:persistent_paths]
-
-// Blocks of the persistent kernel: as many as the GPU keeps resident at once.
-constexpr int k_persistent_threads = 128;
-template <class F> int persistent_blocks() {
-  return resident_blocks(persistent_paths_kernel<F>, k_persistent_threads);
-}
-
 RT_HD inline float filmic(float x) { // Narkowicz 2015's fit of the ACES curve
   // The curve reaches 1 at x = 7.25. Far beyond, at 1.8e19, x * x overflows and inf / inf is
   // NaN, which clamps to black: the brightest pixels would come out darkest.
@@ -192,50 +110,6 @@ struct ToneMapPixel {
 };
 
 } // namespace
-
-void accumulate_megakernel(Backend backend, KernelKind kernel, unsigned features,
-                           Strategy strategy, const PathSceneView& scene,
-                           const ch03::Camera<float>& camera, unsigned first_sample,
-                           int samples, float4* sums, unsigned* non_finite) {
-  const Extent extent{camera.pinhole.width, camera.pinhole.height};
-  with_kernel(kernel, features, [&](auto f) {
-    using F = decltype(f);
-    for_each_pixel(backend, extent,
-                   MegakernelPixel<F>{scene, f, strategy, camera, first_sample, samples, sums,
-                                      non_finite});
-  });
-}
-
-void accumulate_persistent(Backend backend, KernelKind kernel, unsigned features,
-                           Strategy strategy, const PathSceneView& scene,
-                           const ch03::Camera<float>& camera, unsigned first_sample,
-                           int samples, float4* sums, unsigned* non_finite,
-                           unsigned* next_path) {
-  if (backend == Backend::cpu)
-    return accumulate_megakernel(backend, kernel, features, strategy, scene, camera,
-                                 first_sample, samples, sums, non_finite);
-  with_kernel(kernel, features, [&](auto f) {
-    using F = decltype(f);
-    const int blocks = persistent_blocks<F>();
-    for (int s = 0; s < samples; ++s) {
-      RT_CUDA_CHECK(cudaMemsetAsync(next_path, 0, sizeof(unsigned)));
-      persistent_paths_kernel<F><<<blocks, k_persistent_threads>>>(
-          scene, f, strategy, camera, first_sample + unsigned(s), sums, non_finite, next_path);
-      RT_CUDA_CHECK_LAUNCH("persistent_paths_kernel");
-    }
-  });
-}
-
-int megakernel_registers(KernelKind kernel, unsigned features, PathVariant variant) {
-  int registers = 0;
-  with_kernel(kernel, features, [&](auto f) {
-    using F = decltype(f);
-    registers = variant == PathVariant::persistent
-                    ? kernel_registers(persistent_paths_kernel<F>)
-                    : kernel_registers(for_each_pixel_kernel<MegakernelPixel<F>>);
-  });
-  return registers;
-}
 
 void tone_map(Backend backend, const float4* sums, Extent extent, float exposure,
               Rgba8* pixels) {
@@ -282,12 +156,76 @@ PathTree build_tree(TreeBuild build, Backend backend, const ch04::Mesh& mesh) {
 
 } // namespace
 
+ProgressiveRenderer::ProgressiveRenderer(Backend backend, unsigned features)
+    : backend_(backend), features_(features), non_finite_(backend, 1), next_path_(backend, 1) {}
+
+ProgressiveRenderer::~ProgressiveRenderer() = default;
+
+void ProgressiveRenderer::restart(const CameraSpec& camera, Extent extent,
+                                  unsigned first_sample) {
+  camera_ = ch03::make_camera<float>(camera, extent);
+  if (extent.width != extent_.width || extent.height != extent_.height) {
+    sums_ = BackendArray<float4>(backend_, static_cast<std::size_t>(extent.pixel_count()));
+    resized();
+  }
+  extent_ = extent;
+  sums_.clear();
+  non_finite_.clear();
+  first_sample_ = first_sample;
+  samples_ = 0;
+}
+
+void ProgressiveRenderer::empty_sums() {
+  sums_.clear();
+  non_finite_.clear();
+  samples_ = 0;
+}
+
+void ProgressiveRenderer::add_samples(const RenderSettings& settings, int samples) {
+  if (extent_.pixel_count() == 0) throw Error("renderer: restart() before add_samples()");
+  accumulate(settings, first_sample_ + unsigned(samples_), samples, false);
+  samples_ += samples;
+}
+
+RayCounts ProgressiveRenderer::add_counted_sample(Strategy strategy) {
+  if (extent_.pixel_count() == 0) throw Error("renderer: restart() before counting rays");
+  const WavefrontPass pass =
+      accumulate({PathVariant::wavefront, KernelKind::specialised, strategy},
+                 first_sample_ + unsigned(samples_), 1, true);
+  samples_ += 1;
+  return {pass.extended, pass.shadow_rays};
+}
+
+void ProgressiveRenderer::synchronize() const {
+  if (backend_ == Backend::gpu) RT_CUDA_CHECK(cudaDeviceSynchronize());
+}
+
+std::vector<float4> ProgressiveRenderer::sums() const { return sums_.to_host(); }
+
+std::vector<Vec3f> ProgressiveRenderer::mean_radiance() const {
+  std::vector<Vec3f> mean;
+  for (const float4& s : sums()) {
+    const float scale = s.w > 0.0f ? 1.0f / s.w : 0.0f;
+    mean.push_back({s.x * scale, s.y * scale, s.z * scale});
+  }
+  return mean;
+}
+
+Image ProgressiveRenderer::image(float exposure) const {
+  return render_into_image(backend_, extent_,
+                           [&](Rgba8* pixels) { tone_map_into(pixels, exposure); });
+}
+
+void ProgressiveRenderer::tone_map_into(Rgba8* pixels, float exposure) const {
+  tone_map(backend_, sums_.data(), extent_, exposure, pixels);
+}
+
+unsigned long long ProgressiveRenderer::non_finite() const { return non_finite_.to_host()[0]; }
+
 PathRenderer::PathRenderer(const PathScene& scene, Backend backend, TreeBuild build)
-    : scene_(scene), backend_(backend), build_(build), features_(features_used(scene)),
+    : ProgressiveRenderer(backend, features_used(scene)), scene_(scene), build_(build),
       tree_(build_tree(build, backend, scene.mesh)) {
   upload();
-  non_finite_ = BackendArray<unsigned>(backend_, 1);
-  next_path_ = BackendArray<unsigned>(backend_, 1);
 }
 
 void PathRenderer::move_vertices(const std::vector<Vec3f>& vertices) {
@@ -298,9 +236,7 @@ void PathRenderer::move_vertices(const std::vector<Vec3f>& vertices) {
   scene_.lights = build_light_table(scene_);
   tree_ = build_tree(build_, backend_, scene_.mesh);
   upload();
-  sums_.clear();
-  non_finite_.clear();
-  samples_ = 0;
+  empty_sums();
 }
 
 void PathRenderer::upload() {
@@ -328,71 +264,38 @@ void PathRenderer::upload() {
 
 PathRenderer::~PathRenderer() = default;
 
-void PathRenderer::restart(const CameraSpec& camera, Extent extent, unsigned first_sample) {
-  camera_ = ch03::make_camera<float>(camera, extent);
-  if (extent.width != extent_.width || extent.height != extent_.height) {
-    sums_ = BackendArray<float4>(backend_, static_cast<std::size_t>(extent.pixel_count()));
-    queues_.reset();
-  }
-  extent_ = extent;
-  sums_.clear();
-  non_finite_.clear();
-  first_sample_ = first_sample;
-  samples_ = 0;
+void PathRenderer::resized() { queues_.reset(); }
+
+WavefrontPass PathRenderer::accumulate(const RenderSettings& settings, unsigned first,
+                                       int samples, bool count_rays) {
+  WavefrontPass pass;
+  with_kernel(settings.kernel, features_, [&](auto f) {
+    if (settings.variant == PathVariant::megakernel) {
+      run_megakernel(backend_, f, settings.strategy, view_, camera_, first, samples,
+                     sums_.data(), non_finite_.data());
+    } else if (settings.variant == PathVariant::persistent) {
+      run_persistent(backend_, f, settings.strategy, view_, camera_, first, samples,
+                     sums_.data(), non_finite_.data(), next_path_.data());
+    } else {
+      if (!queues_)
+        queues_ = std::make_unique<WavefrontQueues>(backend_, extent_.pixel_count());
+      pass = run_wavefront(backend_, f, settings.strategy, view_, camera_, first, samples,
+                           sums_.data(), non_finite_.data(), *queues_, count_rays);
+    }
+  });
+  return pass;
 }
 
-void PathRenderer::add_samples(const RenderSettings& settings, int samples) {
-  if (extent_.pixel_count() == 0) throw Error("PathRenderer: restart() before add_samples()");
-  const unsigned first = first_sample_ + unsigned(samples_);
-  if (settings.variant == PathVariant::megakernel) {
-    accumulate_megakernel(backend_, settings.kernel, features_, settings.strategy, view_,
-                          camera_, first, samples, sums_.data(), non_finite_.data());
-  } else if (settings.variant == PathVariant::persistent) {
-    accumulate_persistent(backend_, settings.kernel, features_, settings.strategy, view_,
-                          camera_, first, samples, sums_.data(), non_finite_.data(),
-                          next_path_.data());
-  } else {
-    if (!queues_) queues_ = std::make_unique<WavefrontQueues>(backend_, extent_.pixel_count());
-    accumulate_wavefront(backend_, settings.kernel, features_, settings.strategy, view_,
-                         camera_, first, samples, sums_.data(), non_finite_.data(), *queues_);
-  }
-  samples_ += samples;
+int PathRenderer::registers(const RenderSettings& settings) const {
+  int registers = 0;
+  with_kernel(settings.kernel, features_, [&](auto f) {
+    using F = decltype(f);
+    registers = settings.variant == PathVariant::wavefront
+                    ? wavefront_registers_of<PathSceneView, F>()
+                    : megakernel_registers_of<PathSceneView, F>(settings.variant ==
+                                                                PathVariant::persistent);
+  });
+  return registers;
 }
-
-RayCounts PathRenderer::add_counted_sample(Strategy strategy) {
-  if (extent_.pixel_count() == 0) throw Error("PathRenderer: restart() before counting rays");
-  if (!queues_) queues_ = std::make_unique<WavefrontQueues>(backend_, extent_.pixel_count());
-  const WavefrontPass pass = accumulate_wavefront(
-      backend_, KernelKind::specialised, features_, strategy, view_, camera_,
-      first_sample_ + unsigned(samples_), 1, sums_.data(), non_finite_.data(), *queues_, true);
-  samples_ += 1;
-  return {pass.extended, pass.shadow_rays};
-}
-
-void PathRenderer::synchronize() const {
-  if (backend_ == Backend::gpu) RT_CUDA_CHECK(cudaDeviceSynchronize());
-}
-
-std::vector<float4> PathRenderer::sums() const { return sums_.to_host(); }
-
-std::vector<Vec3f> PathRenderer::mean_radiance() const {
-  std::vector<Vec3f> mean;
-  for (const float4& s : sums()) {
-    const float scale = s.w > 0.0f ? 1.0f / s.w : 0.0f;
-    mean.push_back({s.x * scale, s.y * scale, s.z * scale});
-  }
-  return mean;
-}
-
-Image PathRenderer::image(float exposure) const {
-  return render_into_image(backend_, extent_,
-                           [&](Rgba8* pixels) { tone_map_into(pixels, exposure); });
-}
-
-void PathRenderer::tone_map_into(Rgba8* pixels, float exposure) const {
-  tone_map(backend_, sums_.data(), extent_, exposure, pixels);
-}
-
-unsigned long long PathRenderer::non_finite() const { return non_finite_.to_host()[0]; }
 
 } // namespace rt::ch11

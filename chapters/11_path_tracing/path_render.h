@@ -12,6 +12,7 @@
 #include "rt/backend_array.h"
 #include "rt/image.h"
 #include "shaded_render.h"
+#include "wavefront.h"
 #include "wide_trace.h"
 
 namespace rt::ch11 {
@@ -41,34 +42,10 @@ unsigned features_used(const PathScene& scene);
 // "emitters, sky, sun", or "none".
 std::string describe_path_features(unsigned features);
 
-// Adds `samples` samples per pixel (indices first_sample, first_sample + 1, ...) to `sums` by
-// the megakernel, specialised on `features` or with every feature compiled in.
-void accumulate_megakernel(Backend backend, KernelKind kernel, unsigned features,
-                           Strategy strategy, const PathSceneView& scene,
-                           const ch03::Camera<float>& camera, unsigned first_sample,
-                           int samples, float4* sums, unsigned* non_finite);
-
-// The same sums by persistent threads: one launch per sample, as many threads as the GPU
-// holds at once, each taking 32-path batches per warp from `next_path` (one counter in the
-// backend's memory) and starting a new path whenever its last one ended. The CPU backend
-// runs accumulate_megakernel.
-void accumulate_persistent(Backend backend, KernelKind kernel, unsigned features,
-                           Strategy strategy, const PathSceneView& scene,
-                           const ch03::Camera<float>& camera, unsigned first_sample,
-                           int samples, float4* sums, unsigned* non_finite,
-                           unsigned* next_path);
-
-// Registers per thread of the megakernel's GPU kernel (or the persistent one's); needs a
-// usable GPU.
-int megakernel_registers(KernelKind kernel, unsigned features,
-                         PathVariant variant = PathVariant::megakernel);
-
 // The pixel's mean radiance times `exposure`, through a filmic curve (Narkowicz's fit of
 // ACES) and the sRGB transfer function, as 8-bit pixels in the backend's memory.
 void tone_map(Backend backend, const float4* sums, Extent extent, float exposure,
               Rgba8* pixels);
-
-class WavefrontQueues; // wavefront.h
 
 // The rays one sample per pixel traces: camera and bounce rays (closest hit) and shadow rays
 // (any hit).
@@ -78,26 +55,24 @@ struct RayCounts {
   long long total() const { return extension + shadow; }
 };
 
-// How a renderer builds its tree: chapter 09's SAH collapse on the CPU (the fastest tree to
-// trace, for a scene that stays still), or chapter 10's LBVH and parallel collapse on the
-// backend (the tree a moving scene can afford every frame).
-enum class TreeBuild { sah, lbvh };
-
-class PathRenderer {
+// [listing:progressive_renderer]
+// What every progressive renderer does, whatever its scene: a running sum per pixel on its
+// backend, samples added to it by one of the variants, the mean read back or tone-mapped.
+// This chapter's PathRenderer and a later chapter's renderer of other surfaces differ only in
+// the scene they upload and the kernels they instantiate for it (accumulate, registers).
+class ProgressiveRenderer {
 public:
-  PathRenderer(const PathScene& scene, Backend backend, TreeBuild build = TreeBuild::sah);
-  ~PathRenderer();
-  PathRenderer(const PathRenderer&) = delete;
-  PathRenderer& operator=(const PathRenderer&) = delete;
+  ProgressiveRenderer(Backend backend, unsigned features);
+  virtual ~ProgressiveRenderer();
+  ProgressiveRenderer(const ProgressiveRenderer&) = delete;
+  ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
 
   Backend backend() const { return backend_; }
   unsigned features() const { return features_; }
+  // "emitters, sky", the features the specialised kernels are compiled for.
+  virtual std::string describe_features() const { return describe_path_features(features_); }
   // Empties the sums for a new view; the next samples are numbered from first_sample.
   void restart(const CameraSpec& camera, Extent extent, unsigned first_sample = 0);
-  // The scene moved: the same triangles and materials at new vertices. The tree is built again
-  // and the light table made again; the sums are emptied (the camera and first sample kept).
-  // Throws InputError for another vertex count.
-  void move_vertices(const std::vector<Vec3f>& vertices);
   void add_samples(const RenderSettings& settings, int samples);
   // Adds one sample per pixel through the wavefront, counting the rays it traces; the
   // megakernel traces the same paths, so the same rays.
@@ -106,6 +81,9 @@ public:
   Extent extent() const { return extent_; }
   // Waits for the GPU's work (nothing on the CPU): for timing.
   void synchronize() const;
+  // Registers per thread of the GPU kernel that runs `settings` (the wavefront's largest
+  // stage); needs a usable GPU.
+  virtual int registers(const RenderSettings& settings) const = 0;
 
   std::vector<float4> sums() const;         // per pixel: radiance sums and sample count
   std::vector<Vec3f> mean_radiance() const; // per pixel, row 0 at the top
@@ -113,24 +91,57 @@ public:
   void tone_map_into(Rgba8* pixels, float exposure) const; // backend memory
   unsigned long long non_finite() const;                   // samples dropped since restart
 
-private:
-  void upload(); // the scene and tree to the backend, and view_ made for them
+protected:
+  // Adds `samples` samples, numbered from `first`, to sums_ by the settings' variant; a
+  // wavefront pass reports its statistics (counting shadow rays with count_rays).
+  virtual WavefrontPass accumulate(const RenderSettings& settings, unsigned first, int samples,
+                                   bool count_rays) = 0;
+  // The image's size changed: whatever was sized for the old one goes.
+  virtual void resized() {}
+  // The scene changed: the sums start again (the camera and first sample kept).
+  void empty_sums();
 
-  PathScene scene_; // a copy: the host view points into it
   Backend backend_;
-  TreeBuild build_;
   unsigned features_;
-  PathTree tree_;
-  std::unique_ptr<struct DevicePathScene> device_; // on the GPU backend
-  PathSceneView view_{};
   ch03::Camera<float> camera_{};
   Extent extent_{};
   BackendArray<float4> sums_;
   BackendArray<unsigned> non_finite_;
-  BackendArray<unsigned> next_path_;        // the persistent threads' counter
-  std::unique_ptr<WavefrontQueues> queues_; // made for the first wavefront samples
+  BackendArray<unsigned> next_path_; // the persistent threads' counter
   unsigned first_sample_ = 0;
   int samples_ = 0;
+};
+// [/listing:progressive_renderer]
+
+// How a renderer builds its tree: chapter 09's SAH collapse on the CPU (the fastest tree to
+// trace, for a scene that stays still), or chapter 10's LBVH and parallel collapse on the
+// backend (the tree a moving scene can afford every frame).
+enum class TreeBuild { sah, lbvh };
+
+// Chapter 11's renderer: Lambertian scenes (PathScene).
+class PathRenderer : public ProgressiveRenderer {
+public:
+  PathRenderer(const PathScene& scene, Backend backend, TreeBuild build = TreeBuild::sah);
+  ~PathRenderer() override;
+
+  // The scene moved: the same triangles and materials at new vertices. The tree is built again
+  // and the light table made again; the sums are emptied (the camera and first sample kept).
+  // Throws InputError for another vertex count.
+  void move_vertices(const std::vector<Vec3f>& vertices);
+  int registers(const RenderSettings& settings) const override;
+
+private:
+  WavefrontPass accumulate(const RenderSettings& settings, unsigned first, int samples,
+                           bool count_rays) override;
+  void resized() override;
+  void upload(); // the scene and tree to the backend, and view_ made for them
+
+  PathScene scene_; // a copy: the host view points into it
+  TreeBuild build_;
+  PathTree tree_;
+  std::unique_ptr<struct DevicePathScene> device_; // on the GPU backend
+  PathSceneView view_{};
+  std::unique_ptr<BasicWavefrontQueues<PathState>> queues_; // for the first wavefront samples
 };
 
 } // namespace rt::ch11

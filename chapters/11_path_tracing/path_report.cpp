@@ -13,15 +13,14 @@
 
 namespace rt::ch11 {
 
-void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec& camera,
+void add_kernel_rows(ProgressiveRenderer& renderer, Strategy strategy, const CameraSpec& camera,
                      Extent extent, int frames, Report& report) {
   const RenderSettings variants[] = {
       {PathVariant::megakernel, KernelKind::specialised, strategy},
       {PathVariant::megakernel, KernelKind::all_features, strategy},
       {PathVariant::persistent, KernelKind::specialised, strategy},
       {PathVariant::wavefront, KernelKind::specialised, strategy}};
-  report.add_context("kernels", "specialised on " +
-                                    describe_path_features(renderer.features()) +
+  report.add_context("kernels", "specialised on " + renderer.describe_features() +
                                     "; all features: every feature compiled in, switched by "
                                     "the scene's flags");
   renderer.restart(camera, extent);
@@ -65,10 +64,7 @@ void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec
                    {"rays_per_path", rays_per_path},
                    {"mrays_per_s", mrays}}};
     if (renderer.backend() == Backend::gpu) { // what the features cost the GPU: registers
-      const int registers =
-          v.variant == PathVariant::wavefront
-              ? wavefront_registers(v.kernel, renderer.features())
-              : megakernel_registers(v.kernel, renderer.features(), v.variant);
+      const int registers = renderer.registers(v);
       row.error += ", " + std::to_string(registers) + " registers";
       row.metrics.push_back({"registers", registers});
     }
@@ -116,8 +112,8 @@ void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int
                    {"non_finite", double(renderer.non_finite())}}});
 }
 
-SamplesTaken add_image_samples(PathRenderer& renderer, const RenderSettings& settings, int spp,
-                               double seconds, std::ostream& progress,
+SamplesTaken add_image_samples(ProgressiveRenderer& renderer, const RenderSettings& settings,
+                               int spp, double seconds, std::ostream& progress,
                                std::chrono::milliseconds period) {
   const CpuWorkName name("rendering the image");
   const int per_pass = static_cast<int>(std::clamp<long long>(
@@ -147,14 +143,15 @@ SamplesTaken add_image_samples(PathRenderer& renderer, const RenderSettings& set
   return {done, elapsed()};
 }
 
-Report convergence_report(const PathScene& scene, Backend backend, const CameraSpec& camera,
-                          Extent extent, int max_samples, int reference_samples) {
+Report convergence_report(ProgressiveRenderer& renderer, const std::string& title,
+                          const std::string& scene, const CameraSpec& camera, Extent extent,
+                          int max_samples, int reference_samples) {
+  const Backend backend = renderer.backend();
   Report report = start_report(
-      "Chapter 11: error against run time", "Mpaths/s",
-      "float64 mean of " + std::to_string(reference_samples) + " spp (mis)", backend);
-  report.add_context("scene", scene.description);
+      title, "Mpaths/s", "float64 mean of " + std::to_string(reference_samples) + " spp (mis)",
+      backend);
+  report.add_context("scene", scene);
   report.add_context("resolution", to_string(extent));
-  PathRenderer renderer(scene, backend);
   const Reference reference = render_reference(renderer, camera, extent, reference_samples);
   report.add_context("reference seconds", format_fixed(reference.seconds, 1));
   const RenderSettings variants[] = {

@@ -16,7 +16,7 @@ namespace rt::ch11 {
 // The specialised megakernel, the all-features megakernel and the specialised wavefront, each
 // timed over `frames` passes of one sample per pixel (0: the protocol's count) from a fresh
 // start, so that each ends with the same samples: their sums are compared bit for bit.
-void add_kernel_rows(PathRenderer& renderer, Strategy strategy, const CameraSpec& camera,
+void add_kernel_rows(ProgressiveRenderer& renderer, Strategy strategy, const CameraSpec& camera,
                      Extent extent, int frames, Report& report);
 
 // --moving: `frames` frames of chapter 10's moving scene (60 for 0), each its vertices moved,
@@ -47,16 +47,18 @@ struct SamplesTaken {
 // is up (at most k_max_samples_per_pixel). The sums are the same as from one add_samples call
 // of as many samples. A progress line every `period` on `progress` counts the samples, or
 // the seconds ("rendering the image: 37% (388000 of 1048576 samples), 15 s").
-SamplesTaken add_image_samples(PathRenderer& renderer, const RenderSettings& settings, int spp,
-                               double seconds, std::ostream& progress = std::cerr,
+SamplesTaken add_image_samples(ProgressiveRenderer& renderer, const RenderSettings& settings,
+                               int spp, double seconds, std::ostream& progress = std::cerr,
                                std::chrono::milliseconds period = std::chrono::seconds(5));
 
 // The frames the moving scene is run for: `frames`, or 60 for 0.
 inline int moving_frame_count(int frames) { return frames > 0 ? frames : 60; }
 
-// --convergence: a reference of `reference_samples`, then the megakernel with each strategy
-// and the wavefront with MIS at 1, 2, 4, ... max_samples samples per pixel.
-Report convergence_report(const PathScene& scene, Backend backend, const CameraSpec& camera,
-                          Extent extent, int max_samples, int reference_samples);
+// --convergence: a reference of `reference_samples`, then the persistent threads with each
+// strategy, and the megakernel and the wavefront with MIS, at 1, 2, 4, ... max_samples samples
+// per pixel. `title` heads the report; `scene` describes what the renderer holds.
+Report convergence_report(ProgressiveRenderer& renderer, const std::string& title,
+                          const std::string& scene, const CameraSpec& camera, Extent extent,
+                          int max_samples, int reference_samples);
 
 } // namespace rt::ch11

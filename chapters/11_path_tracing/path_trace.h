@@ -57,11 +57,14 @@ inline PathTree build_path_tree(const ch04::Mesh& mesh) {
       ch09::build_wide_layout(mesh, 4, ch09::Collapse::sah));
 }
 
+struct PathState;
+
 // The scene as the kernels read it (device pointers on the GPU, host pointers on the CPU).
 struct PathSceneView {
-  PathTree::View tree; // chapter 09's wide tree
-  ch04::MeshView mesh; // positions, by the mesh's triangle numbers
-  const int* material; // per triangle
+  using Path = PathState; // what a path carries from vertex to vertex (path_kernels.cuh)
+  PathTree::View tree;    // chapter 09's wide tree
+  ch04::MeshView mesh;    // positions, by the mesh's triangle numbers
+  const int* material;    // per triangle
   const PathMaterial* materials;
   const int* light_triangles; // LightTable::triangles
   const float* light_cdf;     // LightTable::cdf
@@ -121,6 +124,12 @@ RT_HD inline PathState start_path(const ch03::Camera<float>& camera, int x, int 
   path.ray = camera_ray_jittered(camera, x, y, number(path, 0) - 0.5f, number(path, 1) - 0.5f);
   path.throughput = {1.0f, 1.0f, 1.0f};
   return path;
+}
+// The same, named by the scene it will be traced in: the kernels (path_kernels.cuh) start
+// every scene's paths this way, and a later chapter's scene starts its own.
+RT_HD inline PathState start_path(const PathSceneView&, const ch03::Camera<float>& camera,
+                                  int x, int y, unsigned sample) {
+  return start_path(camera, x, y, sample);
 }
 
 // The emitting triangle for a number in [0, 1): the first whose cumulative probability
@@ -283,9 +292,10 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
 
 // [listing:megakernel]
 // One step of a path in the megakernel: trace, shade, trace the shadow rays. False when the
-// path ends.
-template <class F>
-RT_HD bool extend_path(const PathSceneView& s, F features, Strategy strategy, PathState& path) {
+// path ends. S is the scene's view (this chapter's PathSceneView, or a later chapter's, whose
+// own shade_vertex overload C++ finds by the view's type).
+template <class S, class F>
+RT_HD bool extend_path(const S& s, F features, Strategy strategy, typename S::Path& path) {
   const TraceHit hit = ch09::trace_wide<Query::closest>(s.tree, path.ray);
   ShadowRays shadows;
   const bool goes_on = shade_vertex(s, features, strategy, path, hit, shadows);
@@ -296,10 +306,10 @@ RT_HD bool extend_path(const PathSceneView& s, F features, Strategy strategy, Pa
 }
 
 // The megakernel's path: steps until it ends.
-template <class F>
-RT_HD Vec3f trace_path(const PathSceneView& s, F features, Strategy strategy,
+template <class S, class F>
+RT_HD Vec3f trace_path(const S& s, F features, Strategy strategy,
                        const ch03::Camera<float>& camera, int x, int y, unsigned sample) {
-  PathState path = start_path(camera, x, y, sample);
+  typename S::Path path = start_path(s, camera, x, y, sample);
   while (extend_path(s, features, strategy, path)) {
   }
   return path.radiance;

@@ -4,7 +4,8 @@
 // its closest hit), shade (shade_vertex: queue the shadow rays and the paths that go on), and
 // connect (trace the shadow rays, any hit). Queues are compacted with atomic counters. A stage
 // runs one small function over many paths that all do the same thing, where the megakernel's
-// threads drift apart into different parts of one large function.
+// threads drift apart into different parts of one large function. The stages themselves are
+// in wavefront_stages.cuh; this header holds their memory and statistics.
 #pragma once
 
 #include "path_trace.h"
@@ -25,19 +26,25 @@ enum WavefrontCounter : int {
 
 // The memory of one pass of the wavefront over an image of `pixels` pixels: a path per pixel
 // and its shadow rays, the hits of the paths in the queue, and the queues themselves: 192
-// bytes per pixel, 398 MB for 1920x1080, where the megakernel keeps the same in registers.
-class WavefrontQueues {
+// bytes per pixel with this chapter's paths, 398 MB for 1920x1080, where the megakernel keeps
+// the same in registers. Path is the scene's path type (PathSceneView::Path).
+template <class Path> class BasicWavefrontQueues {
 public:
-  WavefrontQueues(Backend backend, long long pixels);
+  BasicWavefrontQueues(Backend backend, long long pixels)
+      : paths(backend, pixels), shadows(backend, pixels),
+        hits(backend, pixels), queue{BackendArray<int>(backend, pixels),
+                                     BackendArray<int>(backend, pixels)},
+        shadow_queue(backend, pixels), counters(backend, k_wavefront_counters) {}
   long long capacity() const { return static_cast<long long>(paths.size()); }
 
-  BackendArray<PathState> paths;    // path i is pixel i's
+  BackendArray<Path> paths;         // path i is pixel i's
   BackendArray<ShadowRays> shadows; // the shadow rays of path i's last vertex
   BackendArray<TraceHit> hits;      // hits[j]: what queue entry j's ray found
   BackendArray<int> queue[2];       // the live paths: this bounce's, the next bounce's
   BackendArray<int> shadow_queue;   // paths with shadow rays to trace
   BackendArray<unsigned> counters;  // by WavefrontCounter
 };
+using WavefrontQueues = BasicWavefrontQueues<PathState>;
 
 // The wavefront's statistics of its last pass, for the report.
 struct WavefrontPass {
@@ -46,19 +53,5 @@ struct WavefrontPass {
   long long shadow_rays_paths = 0; // paths queued for connect, over every bounce
   long long shadow_rays = 0;       // shadow rays traced by connect (0 unless counted)
 };
-
-// Registers per thread of the wavefront's largest stage kernel (extend, shade or connect);
-// needs a usable GPU.
-int wavefront_registers(KernelKind kernel, unsigned features);
-
-// Adds `samples` samples per pixel to `sums`, one pass of the stages per sample; the same
-// numbers and the same additions as accumulate_megakernel, so the same sums. With
-// count_shadow_rays, connect also counts the shadow rays it traces (an atomic add per ray,
-// which the timed passes leave out).
-WavefrontPass accumulate_wavefront(Backend backend, KernelKind kernel, unsigned features,
-                                   Strategy strategy, const PathSceneView& scene,
-                                   const ch03::Camera<float>& camera, unsigned first_sample,
-                                   int samples, float4* sums, unsigned* non_finite,
-                                   WavefrontQueues& queues, bool count_shadow_rays = false);
 
 } // namespace rt::ch11
