@@ -164,7 +164,7 @@ void DeviceTextures::release() noexcept {
       --g_live_objects;
     }
     objects_[filter].clear();
-    cudaFree(d_objects_[filter]);
+    if (d_objects_[filter] != nullptr) cudaFree(d_objects_[filter]);
     d_objects_[filter] = nullptr;
   }
   for (const cudaMipmappedArray_t array : arrays_) {
@@ -172,9 +172,11 @@ void DeviceTextures::release() noexcept {
     --g_live_arrays;
   }
   arrays_.clear();
-  cudaFree(d_texels_);
-  cudaFree(d_views_);
-  cudaFree(d_decode_);
+  // Only what was made: with no textures, no CUDA call at all (a machine without a GPU too).
+  for (void* pointer : {static_cast<void*>(d_texels_), static_cast<void*>(d_views_),
+                        static_cast<void*>(d_decode_)}) {
+    if (pointer != nullptr) cudaFree(pointer);
+  }
   d_texels_ = nullptr;
   d_views_ = nullptr;
   d_decode_ = nullptr;

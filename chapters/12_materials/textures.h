@@ -43,7 +43,7 @@ inline constexpr int k_max_levels = 16;
 // What a scene's textures may take, all levels of all textures together, checked from the
 // files' headers before a texel is decoded. The mip chain adds a third to level 0, so a
 // 16384 x 16384 RGBA8 texture takes 16384^2 * 4 * 4/3 = about 1.43 GB: over the default cap of
-// 1 GiB, it is refused before anything is allocated; 8192 x 8192 (358 MB) fits, twice.
+// 1 GiB, it is refused before anything is allocated; 8192 x 8192 (358 MB) fits three times.
 struct TextureLimits {
   int max_side = 16384;            // texels, on either side of level 0
   long long max_bytes = 1LL << 30; // RGBA8 bytes of every level of every texture
