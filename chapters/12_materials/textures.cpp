@@ -207,8 +207,11 @@ TextureImage make_texture(std::string name, int width, int height, std::vector<R
 // [listing:load_texture]
 TextureImage load_texture(const std::string& path, bool srgb, const TextureLimits& limits) {
   std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
+  if (!std::filesystem::exists(path, error)) {
     throw InputError(path + ": cannot read the texture: no such file");
+  }
+  if (!std::filesystem::is_regular_file(path, error)) {
+    throw InputError(path + ": cannot read the texture: not a file");
   }
   // The header first: a file that claims 100 000 x 100 000 texels is refused before stb_image
   // allocates 40 GB for it.

@@ -423,6 +423,9 @@ TEST_CASE("Missing and corrupt texture files are one-line input errors naming th
   CHECK_THAT(error, rt::testing::starts_with(missing + ": "));
   CHECK_THAT(error, rt::testing::contains("no such file"));
   CHECK(one_line(error));
+  const std::string folder = rt::testing::temp_folder("rt_ch12_textures").string();
+  CHECK_THAT(input_error_of([&] { load_texture(folder, true); }),
+             rt::testing::contains("not a file"));
 
   for (const std::string& bytes :
        {std::string("\x89PNG\r\n\x1a\n garbage after a PNG signature"),
