@@ -56,9 +56,9 @@ namespace rt::ch12 {
 
 // Throws InputError, "<where>: <what is wrong>", for a material the kernels cannot render
 // honestly: a factor that is not finite or outside its range (base colour, metallic,
-// roughness and transmission in [0, 1], an IOR in [1, 4] (glTF allows 0 as "1.5"; loaders
-// map it first), emission in [0, ch11::k_max_light], a conductor's eta in (0, 10] and k in
-// [0, 20]). `where` names the material and its file.
+// roughness and transmission in [0, 1], an IOR in [1, 4] (KHR_materials_ior's 0, an
+// infinite index, is refused by the glTF loader), emission in [0, ch11::k_max_light], a
+// conductor's eta in (0, 10] and k in [0, 20]). `where` names the material and its file.
 void check_material(const Material& material, const std::string& where);
 
 } // namespace rt::ch12

@@ -1,6 +1,6 @@
 // Chapter 12: a scene with materials. Chapter 11's scene (its mesh, its per-triangle material
-// numbers, the emission its light table is built from, the sky and the sun) with, beside each of
-// its materials, chapter 12's full material; texture coordinates at the corners of every
+// numbers, the emission its light table is built from, the sky and the sun) with, beside each
+// of its materials, chapter 12's full material; texture coordinates at the corners of every
 // triangle; the texture images the materials name; and the camera a glTF file brings.
 #pragma once
 
@@ -21,10 +21,10 @@ struct MaterialScene {
   // Chapter 11's scene: path.materials[i].emission is materials[i].emission (the light table
   // is built from it) and path.materials[i].albedo its base colour, for the report.
   ch11::PathScene path;
-  std::vector<Material> materials;       // as many as path.materials
-  std::vector<std::array<Vec2f, 3>> uv;  // per triangle, its corners'; empty: none in the file
-  std::vector<TextureImage> textures;    // what the materials' texture indices name
-  std::optional<CameraSpec> camera;      // a glTF file's first camera, where it has one
+  std::vector<Material> materials;      // as many as path.materials
+  std::vector<std::array<Vec2f, 3>> uv; // per triangle, its corners'; empty: none in the file
+  std::vector<TextureImage> textures;   // what the materials' texture indices name
+  std::optional<CameraSpec> camera;     // a glTF file's first camera, where it has one
 };
 
 // Checks what every loader must hand over: as many materials as path.materials, each checked

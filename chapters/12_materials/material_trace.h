@@ -1,0 +1,271 @@
+// Chapter 12: chapter 11's path tracer with materials. The scene's view is chapter 11's with
+// chapter 12's materials, texture coordinates, textures and energy-compensation tables beside
+// it; a path carries a ray cone besides chapter 11's state. shade_vertex is chapter 11's
+// vertex with a BSDF (bsdf.h) where chapter 11 had an albedo: next-event estimation evaluates
+// the BSDF towards the light and weighs it against the BSDF's own density; the bounce is the
+// BSDF's sample. Chapter 11's kernels (path_kernels.cuh, wavefront_stages.cuh) run it
+// unchanged: they find this shade_vertex and start_path by the view's type.
+#pragma once
+
+#include "bsdf.h"
+#include "energy_compensation.h"
+#include "material.h"
+#include "path_trace.h"
+#include "ray_cone.h"
+#include "textures.h"
+
+namespace rt::ch12 {
+
+using ch11::PathState;
+using ch11::ShadowRays;
+using ch11::Strategy;
+using ch11::TraceHit;
+
+// The features of chapter 12's kernels: chapter 11's lights, and what the materials need.
+enum MaterialFeature : unsigned {
+  k_textures = 1u << 3, // texture lookups (with ray cones for their level of detail)
+  k_specular = 1u << 4, // any material other than Lambertian: the BSDFs of bsdf.h
+};
+inline constexpr unsigned k_all_material_features =
+    ch11::k_all_path_features | k_textures | k_specular;
+
+// The dimension of a vertex that picks one of a BSDF's lobes (one of chapter 11's two spare).
+inline constexpr unsigned k_lobe_pick = 6;
+
+// A path of chapter 12: chapter 11's state and the footprint of its ray (ray_cone.h).
+struct MaterialPath : PathState {
+  RayCone cone;
+};
+
+// [listing:material_view]
+struct MaterialSceneView : ch11::PathSceneView { // the tree, mesh, light table, sky and sun
+  using Path = MaterialPath;
+  const Material* surfaces; // chapter 12's materials, by chapter 11's material numbers
+  const Vec2f* uv;          // three per triangle (its corners'), or null
+  TextureTable textures;    // the images the materials name
+  CompensationView compensation;
+  float pixel_spread; // the camera ray cone's spread angle (ray_cone.h)
+};
+// [/listing:material_view]
+
+RT_HD inline MaterialPath start_path(const MaterialSceneView& s,
+                                     const ch03::Camera<float>& camera, int x, int y,
+                                     unsigned sample) {
+  MaterialPath path;
+  static_cast<PathState&>(path) = ch11::start_path(camera, x, y, sample);
+  path.cone = {0.0f, s.pixel_spread}; // a point at the eye (ray_cone.h)
+  return path;
+}
+
+// The barycentric coordinates (of v1 and v2) of the point p of triangle t: the hit's, found
+// again from the point, whatever order the tree stores the corners in.
+RT_HD inline Vec2f barycentric(const ch04::TriangleF& t, Vec3f p) {
+  const Vec3f e1 = t.v1 - t.v0, e2 = t.v2 - t.v0, q = p - t.v0;
+  const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+  const float q1 = dot(q, e1), q2 = dot(q, e2);
+  const float det = d11 * d22 - d12 * d12;
+  if (!(det > 0.0f)) return {1.0f / 3.0f, 1.0f / 3.0f};
+  const float b1 = clamp_to((d22 * q1 - d12 * q2) / det, 0.0f, 1.0f);
+  const float b2 = clamp_to((d11 * q2 - d12 * q1) / det, 0.0f, 1.0f - b1);
+  return {b1, b2};
+}
+
+// What the surface is at one hit: its BSDF with the textures applied, and its emission.
+struct SurfaceAt {
+  Bsdf bsdf;
+  Vec3f emission;
+};
+
+// [listing:surface_at]
+// The textures' level of detail comes from the ray's cone where it meets the triangle, at an
+// angle whose cosine is cos_incidence, each texture's from its own size (ray_cone.h).
+template <class F>
+RT_HD SurfaceAt surface_at(const MaterialSceneView& s, F features, const Material& m,
+                           int triangle, const ch04::TriangleF& corners, Vec3f p, RayCone cone,
+                           float cos_incidence) {
+  Vec3f base = m.base_color, emission = m.emission;
+  float roughness = m.roughness, metallic = m.metallic;
+  if constexpr (F::compiled(k_textures)) {
+    if (features.on(k_textures) && s.uv != nullptr) {
+      const Vec2f b = barycentric(corners, p);
+      const Vec2f* c = s.uv + 3 * triangle;
+      const Vec2f uv = c[0] * (1.0f - b.x - b.y) + c[1] * b.x + c[2] * b.y;
+      const auto lookup = [&](int texture) {
+        const TextureView& view = s.textures.views[texture];
+        const float constant = triangle_lod_constant(corners.v0, corners.v1, corners.v2, c[0],
+                                                     c[1], c[2], view.width, view.height);
+        return sample_texture(s.textures, texture, uv,
+                              cone_texture_lod(constant, cone, cos_incidence));
+      };
+      if (m.base_color_texture != k_no_texture) {
+        const Vec4f t = lookup(m.base_color_texture);
+        base = {base.x * t.x, base.y * t.y, base.z * t.z};
+      }
+      if (m.roughness_texture != k_no_texture) roughness *= lookup(m.roughness_texture).y;
+      if (m.metallic_texture != k_no_texture) metallic *= lookup(m.metallic_texture).z;
+      if (m.emission_texture != k_no_texture) {
+        const Vec4f t = lookup(m.emission_texture);
+        emission = {emission.x * t.x, emission.y * t.y, emission.z * t.z};
+      }
+    }
+  }
+  Bsdf bsdf{};
+  bsdf.model = F::compiled(k_specular) ? m.model : MaterialModel::lambertian;
+  bsdf.base_color = base;
+  bsdf.metallic = metallic;
+  bsdf.alpha = alpha_of(roughness);
+  bsdf.ior = m.ior;
+  bsdf.transmission = m.transmission;
+  bsdf.eta = m.eta;
+  bsdf.k = m.k;
+  bsdf.conductor_f_avg = m.conductor_f_avg;
+  return {bsdf, emission};
+}
+// [/listing:surface_at]
+
+// Whether light passes through the surface: its frame is then the front face's (wo below it
+// means the path arrives from inside), where an opaque surface turns its frame to the viewer.
+RT_HD inline bool transmits(const Bsdf& b) {
+  return b.model == MaterialModel::metallic_roughness && b.transmission > 0.0f &&
+         b.metallic < 1.0f;
+}
+
+// What a bounce does to the ray's cone: a smooth lobe keeps it, a Lambertian surface widens it
+// most, any other lobe by the material's alpha (glTF's diffuse lobe too: the course does not
+// tell its lobes apart here, a heuristic that blurs less after a diffuse bounce off a shiny
+// surface than after one off a Lambertian wall).
+RT_HD inline ConeBounce cone_bounce(const Bsdf& bsdf, unsigned lobe) {
+  if ((lobe & k_lobe_delta) != 0) return ConeBounce::specular;
+  if (bsdf.model == MaterialModel::lambertian) return ConeBounce::diffuse;
+  return ConeBounce::rough;
+}
+
+// A shading frame: the normal and Duff's tangents (chapter 07).
+struct Frame {
+  Vec3f n;
+  ch07::TangentFrame t;
+  RT_HD Vec3f to_local(Vec3f w) const {
+    return {dot(w, t.tangent), dot(w, t.bitangent), dot(w, n)};
+  }
+  RT_HD Vec3f to_world(Vec3f w) const {
+    return normalize(t.tangent * w.x + t.bitangent * w.y + n * w.z);
+  }
+};
+
+// [listing:material_next_event]
+// Next-event estimation through a BSDF: chapter 11's point on an emitter, its contribution
+// f(wo, wi) |cos| Le / pdf_light, weighed against the BSDF's density for the same direction.
+RT_HD inline void sample_emitter_bsdf(const MaterialSceneView& s, const PathState& path,
+                                      Vec3f p, const Frame& frame,
+                                      const ch04::TriangleF& triangle, Vec3f wo,
+                                      const Bsdf& bsdf, Strategy strategy,
+                                      ShadowRays& shadows) {
+  const ch11::LightPoint light = ch11::sample_light_point(
+      s, ch11::number(path, ch11::k_light_pick), ch11::number(path, ch11::k_light_u),
+      ch11::number(path, ch11::k_light_v));
+  const ch04::TriangleF& t = light.corners;
+  const Vec3f guess = light.point - p; // which side of the surface the light is on
+  const Vec3f side = dot(guess, frame.n) >= 0.0f ? frame.n : -frame.n;
+  const Vec3f origin = ch11::spawn_origin(p, side, triangle);
+  const Vec3f n_light = ch11::front_normal(t, origin - light.point);
+  const Vec3f target = ch11::spawn_origin(light.point, n_light, t);
+  const Vec3f to_light = target - origin;
+  const float distance_squared = length_squared(to_light);
+  const float distance = square_root(distance_squared);
+  const Vec3f wi_world = to_light / distance;
+  const float cos_q = dot(n_light, -wi_world);
+  if (!(cos_q > 0.0f) || !(distance > 0.0f)) return; // edge-on, or behind the emitter
+  const Vec3f wi = frame.to_local(wi_world);
+  const Vec3f f_cos = bsdf_eval(bsdf, wo, wi, s.compensation);
+  if (!(max_component(f_cos) > 0.0f)) return;
+  const Vec3f emission = s.materials[s.material[light.triangle]].emission;
+  const float pdf_light = ch11::light_area_density(s, emission) * distance_squared / cos_q;
+  const float weight =
+      strategy == Strategy::mis
+          ? ch11::power_heuristic(pdf_light, bsdf_pdf(bsdf, wo, wi, s.compensation))
+          : 1.0f;
+  const int k = shadows.count++;
+  shadows.ray[k] = {origin, to_light, 0.0f, 1.0f};
+  shadows.contribution[k] = path.throughput * f_cos * emission * (weight / pdf_light);
+}
+// [/listing:material_next_event]
+
+// [listing:material_shade_vertex]
+template <class F>
+RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strategy,
+                        MaterialPath& path, const TraceHit& hit, ShadowRays& shadows) {
+  using namespace ch11;
+  const Vec3f d = path.ray.direction;
+  if (hit.triangle < 0) { // the ray left the scene
+    if constexpr (F::compiled(k_sky))
+      if (features.on(k_sky)) path.radiance += path.throughput * s.environment.sky;
+    return false;
+  }
+  ++path.vertex;
+  const ch04::TriangleF triangle = s.mesh.triangle(hit.triangle);
+  const Vec3f front = front_normal(triangle, -d);
+  const bool from_front = dot(front, d) < 0.0f;
+  const Vec3f p = path.ray.origin + d * hit.t;
+  const Material& m = s.surfaces[s.material[hit.triangle]];
+  path.cone = propagate(path.cone, hit.t); // the footprint here (ray_cone.h)
+  const SurfaceAt surface =
+      surface_at(s, features, m, hit.triangle, triangle, p, path.cone, dot(front, d));
+  const Bsdf& bsdf = surface.bsdf;
+  if constexpr (F::compiled(k_emitters)) { // emits from the front only, as chapter 11
+    if (features.on(k_emitters) && from_front && max_component(surface.emission) > 0.0f) {
+      float weight = 1.0f; // the camera ray, or a bounce of a smooth lobe (bsdf_pdf 0)
+      if (path.bsdf_pdf > 0.0f && strategy == Strategy::light) weight = 0.0f;
+      if (path.bsdf_pdf > 0.0f && strategy == Strategy::mis) {
+        const float cos_q = absolute(dot(front, d));
+        const float pdf_light = light_area_density(s, m.emission) * hit.t * hit.t / cos_q;
+        weight = power_heuristic(path.bsdf_pdf, pdf_light);
+      }
+      path.radiance += path.throughput * surface.emission * weight;
+    }
+  }
+  // The frame: the front face's for a surface light passes through (wo below it: inside),
+  // else turned to the viewer (surfaces reflect on both sides, as chapter 11's).
+  const Vec3f n = transmits(bsdf) || from_front ? front : -front;
+  const Frame frame{n, ch07::duff_frame(n)};
+  const Vec3f wo = frame.to_local(-d);
+  const bool smooth_only = bsdf_is_delta_only(bsdf);
+  if constexpr (F::compiled(k_sun)) {
+    const Environment& e = s.environment;
+    if (features.on(k_sun) && !smooth_only) {
+      const Vec3f wi = frame.to_local(e.sun_direction);
+      const Vec3f f_cos = bsdf_eval(bsdf, wo, wi, s.compensation);
+      if (max_component(f_cos) > 0.0f) {
+        const int k = shadows.count++;
+        const Vec3f side = wi.z >= 0.0f ? n : -n;
+        shadows.ray[k] = {spawn_origin(p, side, triangle), e.sun_direction};
+        shadows.contribution[k] = path.throughput * f_cos * e.sun_irradiance;
+      }
+    }
+  }
+  if constexpr (F::compiled(k_emitters))
+    if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0 &&
+        !smooth_only)
+      sample_emitter_bsdf(s, path, p, frame, triangle, wo, bsdf, strategy, shadows);
+  // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
+  BsdfSample bounce;
+  if (!bsdf_sample(bsdf, wo, number(path, k_lobe_pick), number(path, k_bsdf_u),
+                   number(path, k_bsdf_v), s.compensation, bounce))
+    return false;
+  path.throughput = path.throughput * bounce.weight;
+  if (path.vertex >= k_roulette_from_vertex) {
+    const float survive = min_of(max_component(path.throughput), k_roulette_max_survival);
+    if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
+    path.throughput = path.throughput / survive;
+  } else if (!(max_component(path.throughput) > 0.0f)) {
+    return false;
+  }
+  const Vec3f direction = frame.to_world(bounce.wi);
+  const Vec3f side = bounce.wi.z >= 0.0f ? n : -n;
+  path.ray = {spawn_origin(p, side, triangle), direction};
+  path.bsdf_pdf = (bounce.lobe & k_lobe_delta) != 0 ? 0.0f : bounce.pdf;
+  path.cone = bounce_cone(path.cone, cone_bounce(bsdf, bounce.lobe), bsdf.alpha);
+  return true;
+}
+// [/listing:material_shade_vertex]
+
+} // namespace rt::ch12
