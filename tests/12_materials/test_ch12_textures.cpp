@@ -17,7 +17,6 @@
 #include "ray_cone.h"
 #include "rt/error.h"
 #include "rt/image.h"
-#include "rt_skip.h"
 #include "run_program.h"
 #include "textures.h"
 
@@ -577,12 +576,6 @@ TEST_CASE("A bounce keeps the cone's spread on mirrors and widens it on rough an
 
 namespace {
 
-#define RT_SKIP_WITHOUT_GPU()                                                                  \
-  do {                                                                                         \
-    const std::string rt_reason = ::rt::testing::gpu_unavailable_reason();                     \
-    if (!rt_reason.empty()) RT_SKIP("no usable CUDA device: " << rt_reason);                   \
-  } while (false)
-
 // Two sRGB colour textures and one of linear data, of sizes that are and are not powers of two.
 std::vector<TextureImage> gpu_textures() {
   std::vector<TextureImage> textures;
@@ -639,7 +632,7 @@ std::vector<Vec4f> sample_on_cpu(const TextureTable& table,
 TEST_CASE("GPU point sampling gives the CPU's texels exactly, through texture objects and "
           "plain loads",
           "[textures][gpu]") {
-  RT_SKIP_WITHOUT_GPU();
+  RT_REQUIRE_GPU();
   const std::vector<TextureImage> textures = gpu_textures();
   const HostTextures host(textures);
   const DeviceTextures device(textures);
@@ -657,7 +650,7 @@ TEST_CASE("GPU point sampling gives the CPU's texels exactly, through texture ob
 }
 
 TEST_CASE("The GPU's software filter gives the CPU's results bit for bit", "[textures][gpu]") {
-  RT_SKIP_WITHOUT_GPU();
+  RT_REQUIRE_GPU();
   const std::vector<TextureImage> textures = gpu_textures();
   const HostTextures host(textures);
   const DeviceTextures device(textures);
@@ -677,7 +670,7 @@ TEST_CASE("The GPU's software filter gives the CPU's results bit for bit", "[tex
 TEST_CASE("The texture unit's bilinear and trilinear filters are within the stated tolerance "
           "of the CPU's",
           "[textures][gpu]") {
-  RT_SKIP_WITHOUT_GPU();
+  RT_REQUIRE_GPU();
   const std::vector<TextureImage> textures = gpu_textures();
   const HostTextures host(textures);
   const DeviceTextures device(textures);
@@ -707,7 +700,7 @@ TEST_CASE("The texture unit's bilinear and trilinear filters are within the stat
 
 TEST_CASE("DeviceTextures frees every array and texture object, moved or not",
           "[textures][gpu]") {
-  RT_SKIP_WITHOUT_GPU();
+  RT_REQUIRE_GPU();
   const long long arrays = DeviceTextures::live_arrays();
   const long long objects = DeviceTextures::live_objects();
   {
