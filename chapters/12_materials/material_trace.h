@@ -140,6 +140,32 @@ RT_HD inline ConeBounce cone_bounce(const Bsdf& bsdf, unsigned lobe) {
   return ConeBounce::rough;
 }
 
+// [listing:lambertian_shortcut]
+// The BSDF's three functions, with chapter 11's Lambertian surface taken first: most of a
+// room's hits are on its walls, and there the general mixture (five lobes, the lobe choice
+// computed again in each call) reduces to albedo * cos / pi, a cosine sample and its density.
+// The answers are the mixture's; only the work is left out.
+RT_HD inline Vec3f eval_f_cos(const Bsdf& b, Vec3f wo, Vec3f wi, const CompensationView& c) {
+  if (b.model == MaterialModel::lambertian)
+    return wi.z > 0.0f ? b.base_color * (wi.z / ch11::k_pi) : Vec3f{};
+  return bsdf_eval(b, wo, wi, c);
+}
+RT_HD inline float density(const Bsdf& b, Vec3f wo, Vec3f wi, const CompensationView& c) {
+  if (b.model == MaterialModel::lambertian) return ch11::cosine_density(wi.z);
+  return bsdf_pdf(b, wo, wi, c);
+}
+RT_UNFUSED_HD inline bool sample_f(const Bsdf& b, Vec3f wo, float u_lobe, float u, float v,
+                                   const CompensationView& c, BsdfSample& out) {
+  if (b.model == MaterialModel::lambertian) {
+    if (!(max_component(b.base_color) > 0.0f)) return false; // black: nothing comes back
+    const Vec3f wi = ch07::cosine_direction_about_z(u, v);
+    out = {wi, b.base_color, ch11::cosine_density(wi.z), k_lobe_reflect};
+    return true;
+  }
+  return bsdf_sample(b, wo, u_lobe, u, v, c, out);
+}
+// [/listing:lambertian_shortcut]
+
 // A shading frame: the normal and Duff's tangents (chapter 07).
 struct Frame {
   Vec3f n;
@@ -176,13 +202,13 @@ RT_HD inline void sample_emitter_bsdf(const MaterialSceneView& s, const PathStat
   const float cos_q = dot(n_light, -wi_world);
   if (!(cos_q > 0.0f) || !(distance > 0.0f)) return; // edge-on, or behind the emitter
   const Vec3f wi = frame.to_local(wi_world);
-  const Vec3f f_cos = bsdf_eval(bsdf, wo, wi, s.compensation);
+  const Vec3f f_cos = eval_f_cos(bsdf, wo, wi, s.compensation);
   if (!(max_component(f_cos) > 0.0f)) return;
   const Vec3f emission = s.materials[s.material[light.triangle]].emission;
   const float pdf_light = ch11::light_area_density(s, emission) * distance_squared / cos_q;
   const float weight =
       strategy == Strategy::mis
-          ? ch11::power_heuristic(pdf_light, bsdf_pdf(bsdf, wo, wi, s.compensation))
+          ? ch11::power_heuristic(pdf_light, density(bsdf, wo, wi, s.compensation))
           : 1.0f;
   const int k = shadows.count++;
   shadows.ray[k] = {origin, to_light, 0.0f, 1.0f};
@@ -233,7 +259,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
     const Environment& e = s.environment;
     if (features.on(k_sun) && !smooth_only) {
       const Vec3f wi = frame.to_local(e.sun_direction);
-      const Vec3f f_cos = bsdf_eval(bsdf, wo, wi, s.compensation);
+      const Vec3f f_cos = eval_f_cos(bsdf, wo, wi, s.compensation);
       if (max_component(f_cos) > 0.0f) {
         const int k = shadows.count++;
         const Vec3f side = wi.z >= 0.0f ? n : -n;
@@ -248,8 +274,8 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
       sample_emitter_bsdf(s, path, p, frame, triangle, wo, bsdf, strategy, shadows);
   // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
   BsdfSample bounce;
-  if (!bsdf_sample(bsdf, wo, number(path, k_lobe_pick), number(path, k_bsdf_u),
-                   number(path, k_bsdf_v), s.compensation, bounce))
+  if (!sample_f(bsdf, wo, number(path, k_lobe_pick), number(path, k_bsdf_u),
+                number(path, k_bsdf_v), s.compensation, bounce))
     return false;
   path.throughput = path.throughput * bounce.weight;
   if (path.vertex >= k_roulette_from_vertex) {

@@ -6,13 +6,15 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 sass profile
+#   tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 bench12 sass profile
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
 # memory paths, `bench09` chapter 09's wide trees against the binary one, `bench10` chapter 10's
 # builders on the benchmark set and its moving scene, rebuilt against refitted, `bench11` chapter
-# 11's kernels at 1920x1080 and its convergence report; `window11` opens chapter 11 in the
+# 11's kernels at 1920x1080 and its convergence report, `bench12` chapter 12's material room at
+# 1920x1080 (its kernels, chapter 11's tracer on the same geometry, the texture filters and
+# reads) and its convergence report; `window11` opens chapter 11 in the
 # window at 1920x1080 on Sponza and the conference room (its frame rate), and the moving scenes
 # of chapters 10 and 11. `sass` counts the
 # load instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
@@ -28,7 +30,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 bench12 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -121,6 +123,8 @@ if wanted memcheck; then
     [ "$name" = ch09_wide_bvh ] && extra=(--skip-cpu --reference-rays 64)
     [ "$name" = ch10_gpu_build ] && extra=(--skip-cpu)
     [ "$name" = ch11_path_tracing ] && extra=(--spp 2)
+    [ "$name" = ch12_materials ] && extra=(--spp 2)
+    [ "$name" = ch12_chi2_maps ] && continue # a CPU program
     step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
       --output "$logdir/$name-memcheck.png"
@@ -242,6 +246,14 @@ fi
 # chapter 09's diffuse rays), on the Cornell room, Sponza in sunlight and the conference room
 # under a sky (both from the benchmark's interior views); then the convergence reports behind
 # the book's plots, and what the profiler counts in the megakernel and the persistent threads.
+if wanted bench12 && [ -x build/native/bin/ch12_materials ]; then
+  ch12=build/native/bin/ch12_materials
+  step bench_ch12_room "$ch12" --backend gpu --headless --width 1920 --height 1080 \
+    --frames 50 --spp 64 --json "$logdir/bench_ch12_room.json" --output "$logdir/ch12_room.png"
+  step convergence_ch12_room "$ch12" --backend gpu --headless --convergence --width 320 \
+    --height 240 --spp 1024 --reference-spp 16384 --json "$logdir/convergence_ch12_room.json"
+  cat "$logdir"/bench_ch12_*.log
+fi
 if wanted bench11 && [ -x build/native/bin/ch11_path_tracing ]; then
   ch11=build/native/bin/ch11_path_tracing
   step bench_ch11_room "$ch11" --backend gpu --headless --width 1920 --height 1080 \
