@@ -122,7 +122,8 @@ double simpson(const LobeFrame& f, const std::function<double(Vec3d)>& density, 
 }
 
 // Where the horizon crosses a region, its four quarters are integrated instead, and their
-// quarters, until the sum moves by less than `tolerance` or `depth` levels are spent.
+// quarters, until the sum moves by less than `tolerance` or `depth` levels are spent. About
+// two quarters of four meet the horizon, so each level halves the tolerance.
 double region_integral(const LobeFrame& f, const std::function<double(Vec3d)>& density,
                        double t0, double t1, double phi0, double phi1, double whole,
                        bool crosses, int depth, double tolerance) {
@@ -141,7 +142,7 @@ double region_integral(const LobeFrame& f, const std::function<double(Vec3d)>& d
   double sum = 0.0;
   for (int k = 0; k < 4; ++k)
     sum += region_integral(f, density, corners[k][0], corners[k][1], corners[k][2],
-                           corners[k][3], part[k], part_crosses[k], depth - 1, tolerance / 4.0);
+                           corners[k][3], part[k], part_crosses[k], depth - 1, tolerance / 2.0);
   return sum;
 }
 
@@ -149,7 +150,7 @@ double region_integral(const LobeFrame& f, const std::function<double(Vec3d)>& d
 std::vector<double> frame_expectation(const LobeFrame& f,
                                       const std::function<double(Vec3d)>& density,
                                       double samples) {
-  constexpr int k_horizon_depth = 10;
+  constexpr int k_horizon_depth = 8;
   constexpr double k_tolerance = 0.002; // in expected samples per cell
   const double dt = 1.0 / k_radial_cells, dphi = k_two_pi / k_azimuth_cells;
   std::vector<double> expected(k_frame_cells);
