@@ -118,6 +118,53 @@ done
 python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time (CPU, 64x48)" \
   --out "$img/11_convergence.svg" book/data/11_path_tracing_convergence.json
 
+# Chapter 12: the material room (its glTF camera) at 320x240 and 128 samples per pixel; the
+# roughness series of gold, glass and a white metal, the metal also without energy
+# compensation; the chi-square maps of three samplers (observed | expected | a wrong twin);
+# the furnace spheres as radiance (.pfm), and the camera inside the glass one, drawn in false
+# colour by the chapter's diagram script; and aliasing along a floor whose checkerboard is 16 times finer than the room's
+# (128 squares a side on 1024 texels, from tools/make-material-room.py's checkerboard),
+# point-sampled and trilinear, at 4 samples per pixel.
+"$bin/ch12_materials" --headless --backend cpu --width 320 --height 240 --spp 128 \
+  --image-only --output "$img/12_room.png" >/dev/null
+for series in gold glass white-metal; do
+  "$bin/ch12_materials" --headless --backend cpu --series "$series" --width 480 --height 192 \
+    --spp 64 --image-only --output "$img/12_series_$series.png" >/dev/null
+done
+"$bin/ch12_materials" --headless --backend cpu --series white-metal --no-compensation \
+  --width 480 --height 192 --spp 64 --image-only \
+  --output "$img/12_series_white-metal_no_compensation.png" >/dev/null
+"$bin/ch12_chi2_maps" --material rough-glass --roughness 0.5 --theta 50 \
+  --output "$img/12_chi2_rough_glass.png" >/dev/null
+"$bin/ch12_chi2_maps" --material gold --roughness 0.3 --theta 60 \
+  --output "$img/12_chi2_gold.png" >/dev/null
+"$bin/ch12_chi2_maps" --material white --theta 30 --output "$img/12_chi2_white.png" >/dev/null
+furnace() {
+  local name="$1"
+  shift
+  "$bin/ch12_materials" --headless --backend cpu --width 128 --height 128 --spp 64 \
+    --image-only --output "$scratch/12_furnace_$name.pfm" "$@" >/dev/null
+}
+furnace glass --furnace glass
+furnace rough_glass --furnace rough-glass --roughness 0.6
+furnace metal --furnace white-metal --roughness 1
+furnace metal_plain --furnace white-metal --roughness 1 --no-compensation
+furnace inside --furnace glass --eye 0,0,0 --target 0,0,-1
+python3 tools/diagrams/ch12.py "$img" "$scratch"
+cp assets/material_room.gltf "$scratch/"
+python3 - "$scratch/material_room_floor.png" <<'PYTHON'
+import importlib.util, sys
+spec = importlib.util.spec_from_file_location("room", "tools/make-material-room.py")
+room = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(room)
+open(sys.argv[1], "wb").write(room.checkerboard(side=1024, squares=128))
+PYTHON
+for filter in point trilinear; do
+  "$bin/ch12_materials" --headless --backend cpu --scene "$scratch/material_room.gltf" \
+    --width 320 --height 180 --spp 4 --filter "$filter" --eye 0.9,0.1,0.97 \
+    --target -0.2,0,-1 --fov 45 --image-only --output "$img/12_aliasing_$filter.png" >/dev/null
+done
+
 # Diagrams of chapters 05 on, one script per chapter (matplotlib; chapter 08's also plots
 # book/data); chapters 01-04 drew theirs above.
 for n in 05 06 07 08; do python3 "tools/diagrams/ch$n.py" "$img"; done
