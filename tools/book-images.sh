@@ -122,9 +122,10 @@ python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time
 # roughness series of gold, glass and a white metal, the metal also without energy
 # compensation; the chi-square maps of three samplers (observed | expected | a wrong twin);
 # the furnace spheres as radiance (.pfm), and the camera inside the glass one, drawn in false
-# colour by the chapter's diagram script; and aliasing along a floor whose checkerboard is 16 times finer than the room's
-# (128 squares a side on 1024 texels, from tools/make-material-room.py's checkerboard),
-# point-sampled and trilinear, at 4 samples per pixel.
+# colour by the chapter's diagram script; and aliasing along a floor whose checkerboard is 16
+# times finer than the room's (128 squares a side on 1024 texels, from
+# tools/make-material-room.py's checkerboard), point-sampled and trilinear, at 4 samples per
+# pixel.
 "$bin/ch12_materials" --headless --backend cpu --width 320 --height 240 --spp 128 \
   --image-only --output "$img/12_room.png" >/dev/null
 for series in gold glass white-metal; do
