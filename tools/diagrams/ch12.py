@@ -366,7 +366,7 @@ def energy_loss(out):
         ax.plot(mus, [single_scattering(mu, alpha, rng) for mu in mus], color=colour,
                 label=f"roughness {roughness} (alpha {alpha:.3g})")
     ax.axhline(1 - math.log(2), color=RED, linewidth=0.6, linestyle=":")
-    ax.text(0.45, 1 - math.log(2) - 0.07, "1 − ln 2 = 0.307: alpha 1, head-on (exact)",
+    ax.text(0.52, 1 - math.log(2) - 0.07, "1 − ln 2 = 0.307: alpha 1, head-on",
             fontsize=8, color=RED)
     ax.set_xlabel("cos θo")
     ax.set_ylabel("E(cos θo): the share one bounce returns")
@@ -436,6 +436,7 @@ def furnace(out, folder):
 
 
 def main():
+    plt.rcParams.update({"svg.hashsalt": "rt-course-ch12", "font.family": "DejaVu Sans"})
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("book/images")
     out.mkdir(parents=True, exist_ok=True)
     microfacets(out)
