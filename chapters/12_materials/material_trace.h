@@ -32,9 +32,11 @@ inline constexpr unsigned k_all_material_features =
 // The dimension of a vertex that picks one of a BSDF's lobes (one of chapter 11's two spare).
 inline constexpr unsigned k_lobe_pick = 6;
 
-// A path of chapter 12: chapter 11's state and the footprint of its ray (ray_cone.h).
+// A path of chapter 12: chapter 11's state, the footprint of its ray (ray_cone.h), and the
+// product of the (eta_t / eta_i)^2 its refractions divided its throughput by.
 struct MaterialPath : PathState {
   RayCone cone;
+  float eta_scale; // 1 in the air; 2.25 inside glass of index 1.5 entered from the air
 };
 
 // [listing:material_view]
@@ -54,6 +56,7 @@ RT_HD inline MaterialPath start_path(const MaterialSceneView& s,
   MaterialPath path;
   static_cast<PathState&>(path) = ch11::start_path(camera, x, y, sample);
   path.cone = {0.0f, s.pixel_spread}; // a point at the eye (ray_cone.h)
+  path.eta_scale = 1.0f;
   return path;
 }
 
@@ -278,13 +281,25 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
                 number(path, k_bsdf_v), s.compensation, bounce))
     return false;
   path.throughput = path.throughput * bounce.weight;
+  // [listing:roulette_eta]
+  // Russian roulette as chapter 11's, on the throughput with the refractions' radiance scaling
+  // taken out (pbrt's etaScale). Entering glass divides the throughput by 2.25 and leaving it
+  // multiplies it back: judged on the scaled throughput, a path inside glass is ended too
+  // often, and one that has left it carries 2.25 times its worth and survives at the cap every
+  // time after, bounce after bounce, long after it has anything left to bring back.
+  if ((bounce.lobe & k_lobe_transmit) != 0 && bsdf.ior != 1.0f) {
+    const float eta = wo.z > 0.0f ? bsdf.ior : 1.0f / bsdf.ior; // inside over outside
+    path.eta_scale *= eta * eta;
+  }
   if (path.vertex >= k_roulette_from_vertex) {
-    const float survive = min_of(max_component(path.throughput), k_roulette_max_survival);
+    const float survive =
+        min_of(max_component(path.throughput) * path.eta_scale, k_roulette_max_survival);
     if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
     path.throughput = path.throughput / survive;
   } else if (!(max_component(path.throughput) > 0.0f)) {
     return false;
   }
+  // [/listing:roulette_eta]
   const Vec3f direction = frame.to_world(bounce.wi);
   const Vec3f side = bounce.wi.z >= 0.0f ? n : -n;
   path.ray = {spawn_origin(p, side, triangle), direction};

@@ -18,7 +18,7 @@ prefix="${RT_PREFIX:-/tmp/rt-prefix}"
 args=()
 if [ -d "$prefix/usr" ]; then
   libs="$prefix/usr/lib/x86_64-linux-gnu"
-  export LD_LIBRARY_PATH="$libs:$prefix/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+  export LD_LIBRARY_PATH="$libs:$libs/pulseaudio:$prefix/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
   export CPATH="$prefix/usr/include/x86_64-linux-gnu${CPATH:+:$CPATH}"
   export PATH="$prefix/usr/bin:$PATH"
   args+=("-DCMAKE_PREFIX_PATH=$prefix/usr")
