@@ -21,9 +21,7 @@ The room's geometry is tools/make-assets.py's (imported, not copied). Only the s
 library is used; the output is the same on every run (fixed decimals, gzip without a time
 stamp, the PNG compressed by zlib at level 9).
 """
-import argparse
 import base64
-import gzip
 import importlib.util
 import io
 import json
@@ -343,30 +341,15 @@ def png_pixels(data):
     return zlib.decompress(idat)
 
 
+def same_texels(name, old, new):
+    """A PNG whose texels are the same is the same texture, whatever zlib packed it."""
+    if name.endswith(".png") and png_pixels(old) == png_pixels(new):
+        return "same texels, different zlib bytes (another zlib)"
+    return None
+
+
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true",
-                        help="compare with the files in assets/, write nothing")
-    args = parser.parse_args()
-    status = 0
-    for name, data in assets().items():
-        path = ASSETS / name
-        if not args.check:
-            path.write_bytes(data)
-            print(f"wrote assets/{name} ({len(data):,} bytes)")
-            continue
-        old = path.read_bytes() if path.exists() else None
-        if old == data:
-            print(f"assets/{name}: identical")
-        elif old is not None and name.endswith(".gz") and \
-                gzip.decompress(old) == gzip.decompress(data):
-            print(f"assets/{name}: same text, different gzip bytes (another zlib)")
-        elif old is not None and name.endswith(".png") and png_pixels(old) == png_pixels(data):
-            print(f"assets/{name}: same texels, different zlib bytes (another zlib)")
-        else:
-            print(f"assets/{name}: DIFFERS")
-            status = 1
-    return status
+    return make_assets.write_or_check(assets(), same_texels)
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@
 #include "path_render.h"
 #include "path_report.h"
 #include "program.h"
+#include "progressive_flags.h"
 #include "protocol.h"
 #include "rt/image.h"
 #include "rt/program_output.h"
@@ -223,29 +224,9 @@ void refuse_ignored_flags(const CLI::App& app, const ChapterOptions& options) {
   if (options.moving && (given("--scene") || options.convergence))
     throw UsageError("--moving renders chapter 10's scene: not with --scene or --convergence");
   if (!options.moving && given("--detail")) throw UsageError("--detail goes with --moving");
-  if (options.convergence)
-    for (const char* flag : {"--window", "--variant", "--strategy", "--output", "--seconds",
-                             "--image-only", "--exposure", "--frames"})
-      if (given(flag))
-        throw UsageError(std::string("--convergence measures every variant and strategy "
-                                     "against a reference and writes no image: not with ") +
-                         flag);
-  if (!options.convergence && given("--reference-spp"))
-    throw UsageError("--reference-spp goes with --convergence");
-  if (given("--spp") && given("--seconds"))
-    throw UsageError("--spp and --seconds both say how long to render: give one");
   if (given("--sun-irradiance") && !options.sun)
     throw UsageError("--sun-irradiance is the sun's: give --sun too");
-  const std::string& output = options.common.output;
-  if (given("--exposure") && !options.display.window &&
-      (output.empty() || is_linear_image_path(output)))
-    throw UsageError("--exposure scales the tone-mapped picture (a .png or the window); " +
-                     (output.empty() ? std::string("there is no --output")
-                                     : output + " holds the radiance itself"));
-  if (given("--output") && output.empty() && options.common.json.empty() &&
-      (options.display.headless || options.image_only))
-    throw UsageError("--output \"\" and no --json: the run would write nothing (leave out "
-                     "--output for the image, or give --json for the report)");
+  refuse_progressive_flags(app, options, options.convergence);
 }
 
 } // namespace

@@ -21,6 +21,7 @@
 #include "material_scenes.h"
 #include "path_report.h"
 #include "program.h"
+#include "progressive_flags.h"
 #include "rt/image.h"
 #include "rt/program_output.h"
 #include "scene_loaders.h"
@@ -189,27 +190,7 @@ void refuse_ignored_flags(const CLI::App& app, const ChapterOptions& options) {
     throw UsageError("--scene, --furnace and --series each choose the scene: one");
   if (given("--roughness") && !given("--furnace"))
     throw UsageError("--roughness is the --furnace sphere's (--series shows five)");
-  if (options.convergence)
-    for (const char* flag : {"--window", "--variant", "--strategy", "--output", "--seconds",
-                             "--image-only", "--exposure", "--frames"})
-      if (given(flag))
-        throw UsageError(std::string("--convergence measures every variant and strategy "
-                                     "against a reference and writes no image: not with ") +
-                         flag);
-  if (!options.convergence && given("--reference-spp"))
-    throw UsageError("--reference-spp goes with --convergence");
-  if (given("--spp") && given("--seconds"))
-    throw UsageError("--spp and --seconds both say how long to render: give one");
-  const std::string& output = options.common.output;
-  if (given("--exposure") && !options.display.window &&
-      (output.empty() || is_linear_image_path(output)))
-    throw UsageError("--exposure scales the tone-mapped picture (a .png or the window); " +
-                     (output.empty() ? std::string("there is no --output")
-                                     : output + " holds the radiance itself"));
-  if (given("--output") && output.empty() && options.common.json.empty() &&
-      (options.display.headless || options.image_only))
-    throw UsageError("--output \"\" and no --json: the run would write nothing (leave out "
-                     "--output for the image, or give --json for the report)");
+  ch11::refuse_progressive_flags(app, options, options.convergence);
 }
 
 } // namespace

@@ -13,6 +13,8 @@
 
 #include "rt_catch.h"
 
+#include "temp_folder.h"
+
 #include "mesh_gen.h"
 #include "mesh_invariants.h"
 #include "obj_loader.h"
@@ -21,6 +23,8 @@
 using namespace rt;
 using namespace rt::ch05;
 using Triangles = std::vector<std::array<int, 3>>;
+
+using rt::testing::TempFolder;
 
 namespace {
 
@@ -51,33 +55,6 @@ template <class Load> std::string error_of(Load&& load) {
 std::string parse_error(const std::string& text, const LoadLimits& limits = {}) {
   return error_of([&] { parse(text, limits); });
 }
-
-// A folder of its own under the system's temporary folder, removed at the end of the test.
-class TempFolder {
-public:
-  explicit TempFolder(const std::string& name)
-      : path_(std::filesystem::temp_directory_path() /
-              ("rt_ch05_" + name + "_" + std::to_string(::getpid()))) {
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempFolder() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempFolder(const TempFolder&) = delete;
-  TempFolder& operator=(const TempFolder&) = delete;
-
-  std::string write(const std::string& file, const std::string& bytes) const {
-    const std::string path = (path_ / file).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
-  std::string path(const std::string& file) const { return (path_ / file).string(); }
-
-private:
-  std::filesystem::path path_;
-};
 
 // One gzip member holding `text`, made with zlib.
 std::string gzip(const std::string& text) {
@@ -176,7 +153,7 @@ TEST_CASE("a missing material library is not an error: its faces get material id
   CHECK(parsed.material_ids == std::vector<int>(6, -1));
   CHECK(parsed.material_names.empty());
   // A material library that is a folder counts as missing too.
-  TempFolder folder("mtl_folder");
+  TempFolder folder("rt_ch05", "mtl_folder");
   std::filesystem::create_directory(folder.path("lib.mtl"));
   const std::string path =
       folder.write("a.obj", std::string("mtllib lib.mtl\nusemtl red\n") + k_triangle);
@@ -311,7 +288,7 @@ TEST_CASE("numbers: plain decimal notation only, finite as a float", "[ch05]") {
 }
 
 TEST_CASE("a .gz file loads the same as the plain file, whatever it is called", "[ch05]") {
-  TempFolder folder("gzip");
+  TempFolder folder("rt_ch05", "gzip");
   const ch04::Mesh box = ch04::make_box({-1, -2, -3}, {4, 5, 6}, 3);
   const std::string text = to_obj_text(box, false);
   const ObjMesh plain = parse(text);
@@ -347,7 +324,7 @@ TEST_CASE("a gzip bomb stops at LoadLimits::max_file_bytes while it unpacks", "[
   CHECK_THAT(parse_error(bomb, limits),
              rt::testing::contains("test.obj: decompresses to more than "
                                    "LoadLimits::max_file_bytes (1048576 bytes)"));
-  TempFolder folder("bomb");
+  TempFolder folder("rt_ch05", "bomb");
   const std::string path = folder.write("bomb.obj.gz", bomb);
   CHECK_THAT(error_of([&] { load_obj(path, limits); }),
              rt::testing::contains("bomb.obj.gz: decompresses to more than"));
@@ -380,7 +357,7 @@ TEST_CASE("LoadLimits caps vertices, normals, texture coordinates, triangles and
   CHECK_THAT(
       parse_error(k_triangle, limits),
       rt::testing::contains("test.obj: larger than LoadLimits::max_file_bytes (10 bytes)"));
-  TempFolder folder("limits");
+  TempFolder folder("rt_ch05", "limits");
   const std::string path = folder.write("a.obj", k_triangle);
   CHECK_THAT(error_of([&] { load_obj(path, limits); }),
              rt::testing::contains("a.obj: larger than LoadLimits::max_file_bytes (10 bytes)"));
@@ -391,7 +368,7 @@ TEST_CASE("LoadLimits caps vertices, normals, texture coordinates, triangles and
 }
 
 TEST_CASE("the file system: missing, a folder, a device, unreadable, empty", "[ch05]") {
-  TempFolder folder("files");
+  TempFolder folder("rt_ch05", "files");
   const std::string missing = folder.path("missing.obj");
   CHECK(error_of([&] { load_obj(missing); }) ==
         missing + ": cannot open (No such file or directory)");

@@ -20,6 +20,8 @@
 
 #include "rt_catch.h"
 
+#include "temp_folder.h"
+
 #include "path_scene.h"
 #include "rt/error.h"
 #include "scene_loaders.h"
@@ -29,39 +31,11 @@ using namespace rt::ch12;
 using nlohmann::json;
 using rt::testing::contains;
 
+using rt::testing::TempFolder;
+
 namespace {
 
 const std::string k_assets = RT_ASSETS_DIR;
-
-class TempFolder {
-public:
-  explicit TempFolder(const std::string& name)
-      : path_(std::filesystem::temp_directory_path() /
-              ("rt_ch12_" + name + "_" + std::to_string(::getpid()))) {
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempFolder() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempFolder(const TempFolder&) = delete;
-  TempFolder& operator=(const TempFolder&) = delete;
-
-  std::string write(const std::string& file, const std::string& bytes) const {
-    const std::string path = (path_ / file).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
-  std::string copy(const std::string& from, const std::string& file) const {
-    std::filesystem::copy_file(from, path_ / file);
-    return (path_ / file).string();
-  }
-  std::string path(const std::string& file) const { return (path_ / file).string(); }
-
-private:
-  std::filesystem::path path_;
-};
 
 std::string base64(const std::string& bytes) {
   static const char* k_digits =
@@ -271,7 +245,7 @@ TEST_CASE("the material room's OBJ and glTF files load to the same scene", "[sce
 }
 
 TEST_CASE("MTL statements become the material fields they name", "[scenes]") {
-  TempFolder folder("mtl");
+  TempFolder folder("rt_ch12", "mtl");
   folder.copy(k_assets + "/material_room_floor.png", "checks.png");
   folder.copy(k_assets + "/material_room_floor.png", "grey.png");
   folder.write("m.mtl",
@@ -375,7 +349,7 @@ TEST_CASE("the Cornell room's plain MTL loads to chapter 11's materials", "[scen
 }
 
 TEST_CASE("glTF node transforms are flattened through the scene graph", "[scenes]") {
-  TempFolder folder("nodes");
+  TempFolder folder("rt_ch12", "nodes");
   GltfFile file = one_triangle();
   // Node 0 moves by (10, 0, 0); its child, node 1, turns 90 degrees about z and scales by 2,
   // then draws the triangle; node 2, a root given by a matrix (scale 3, then move by
@@ -422,7 +396,7 @@ TEST_CASE("glTF node transforms are flattened through the scene graph", "[scenes
 }
 
 TEST_CASE("glTF materials, their extensions and their textures", "[scenes]") {
-  TempFolder folder("materials");
+  TempFolder folder("rt_ch12", "materials");
   folder.copy(k_assets + "/material_room_floor.png", "checks.png");
   GltfFile file = one_triangle();
   const int uv = file.add_accessor(
@@ -469,7 +443,7 @@ TEST_CASE("glTF materials, their extensions and their textures", "[scenes]") {
 }
 
 TEST_CASE("a missing texture file is one warning, a corrupt one an error", "[scenes]") {
-  TempFolder folder("missing");
+  TempFolder folder("rt_ch12", "missing");
   folder.write("bad.png", std::string("\x89PNG\r\n\x1a\n this is not an image", 30));
   SECTION("OBJ") {
     folder.write("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\nmap_Kd gone.png\nmap_Pr gone.png\n"
@@ -507,7 +481,7 @@ TEST_CASE("a missing texture file is one warning, a corrupt one an error", "[sce
 }
 
 TEST_CASE("MTL PBR statements that are not numbers are refused", "[scenes]") {
-  TempFolder folder("unreadable");
+  TempFolder folder("rt_ch12", "unreadable");
   const std::string obj =
       folder.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
   for (const char* statement :
@@ -519,7 +493,7 @@ TEST_CASE("MTL PBR statements that are not numbers are refused", "[scenes]") {
 }
 
 TEST_CASE("broken glTF files are refused in one line naming the problem", "[scenes]") {
-  TempFolder folder("refused");
+  TempFolder folder("rt_ch12", "refused");
   struct Case {
     const char* name;
     std::function<void(GltfFile&)> damage;
