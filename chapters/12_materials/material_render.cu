@@ -7,6 +7,7 @@
 #include "rt/backend_array.h"
 #include "rt/device_buffer.h"
 #include "rt/error.h"
+#include "rt/timer.h"
 #include "wavefront_stages.cuh"
 #include "wide_trace.h"
 
@@ -100,7 +101,47 @@ struct BaseColourPixel {
   }
 };
 
+// [listing:visible_normal_timing]
+// One thread's 64 visible normals (time_visible_normals): each from its own incident direction
+// and roughness, hashed as the path tracer hashes its numbers.
+constexpr int k_normals_per_thread = 64;
+struct VisibleNormalThread {
+  VisibleNormals sampler;
+  float* sums;
+  RT_HD void operator()(int i) const {
+    float sum = 0.0f;
+    for (int k = 0; k < k_normals_per_thread; ++k) {
+      const auto number = [&](unsigned d) {
+        return ch11::sample_number(unsigned(i), unsigned(k), 0, d);
+      };
+      const float cos_o = 1.0f - number(0), phi = number(1);
+      const float sin_o = square_root(max_of(0.0f, 1.0f - cos_o * cos_o));
+      const ch07::SinCos turn = ch07::sin_cos_turns(phi);
+      const Vec3f wo{sin_o * turn.cos, sin_o * turn.sin, cos_o};
+      const float alpha = 0.001f + 0.999f * number(2);
+      const Vec3f m = sampler == VisibleNormals::heitz
+                          ? sample_visible_normal_heitz(wo, alpha, number(3), number(4))
+                          : sample_visible_normal_caps(wo, alpha, number(3), number(4));
+      sum += m.z;
+    }
+    sums[i] = sum;
+  }
+};
+// [/listing:visible_normal_timing]
+
 } // namespace
+
+VisibleNormalTiming time_visible_normals(Backend backend, VisibleNormals sampler, int threads,
+                                         int frames) {
+  BackendArray<float> sums(backend, static_cast<std::size_t>(threads));
+  const VisibleNormalThread run{sampler, sums.data()};
+  const Timing t = time_on(
+      backend, [&] { for_each_index(backend, threads, run); }, frames);
+  double total = 0.0;
+  for (const float s : sums.to_host()) total += s;
+  const long long samples = static_cast<long long>(threads) * k_normals_per_thread;
+  return {t.median_ms, samples, total / double(samples)};
+}
 
 // The scene's arrays in device memory.
 struct DeviceMaterialScene {

@@ -65,4 +65,17 @@ private:
 std::vector<Vec3f> render_base_colour(const MaterialRenderer& renderer,
                                       const CameraSpec& camera, Extent extent, int samples);
 
+// The two samplers of visible normals (microfacet.h), timed on the backend: `threads` threads
+// each draw 64 normals for hashed incident directions (cos theta_o in (0, 1]) and roughness
+// (alpha in [0.001, 1)), and add up their z. Both draw the same distribution, so the two means
+// agree up to noise: the measurement's check that neither was cut short.
+enum class VisibleNormals { heitz, caps };
+struct VisibleNormalTiming {
+  double ms = 0.0;       // median of the protocol's runs
+  long long samples = 0; // normals drawn per run
+  double mean_z = 0.0;   // the mean z of the normals drawn
+};
+VisibleNormalTiming time_visible_normals(Backend backend, VisibleNormals sampler, int threads,
+                                         int frames);
+
 } // namespace rt::ch12

@@ -2,6 +2,7 @@
 #include "material_report.h"
 
 #include <cmath>
+#include <tuple>
 
 #include "rt/program_output.h"
 #include "rt/timer.h"
@@ -110,6 +111,23 @@ void add_material_rows(MaterialRenderer& renderer, const MaterialScene& scene,
                     {{"time_vs_default", t.ms / ours.ms}}});
   }
   renderer.set_options(kept);
+  // The two visible-normal samplers, alone: 2^24 normals (2^20 on the CPU).
+  const int threads = backend == Backend::gpu ? 1 << 18 : 1 << 14;
+  const VisibleNormalTiming heitz =
+      time_visible_normals(backend, VisibleNormals::heitz, threads, frames);
+  const VisibleNormalTiming caps =
+      time_visible_normals(backend, VisibleNormals::caps, threads, frames);
+  for (const auto& [name, t, other] :
+       {std::tuple{"visible normals: Heitz 2018", heitz, caps},
+        std::tuple{"visible normals: spherical caps (Dupuy and Benyoub 2023)", caps, heitz}})
+    report.add_row({name,
+                    to_string(backend),
+                    t.ms,
+                    double(t.samples) / (t.ms * 1e3),
+                    "mean normal z " + format_fixed(t.mean_z, 5) + ", the other sampler's " +
+                        format_fixed(other.mean_z, 5) + " (" + group_digits(t.samples) +
+                        " normals; throughput in millions of normals per second)",
+                    {{"mean_z", t.mean_z}, {"normals", double(t.samples)}}});
 }
 
 } // namespace rt::ch12

@@ -3,6 +3,7 @@
 // the texture filters with their aliasing and the compensation; the built-in furnace and
 // series scenes render; a .pfm holds the radiance; flags the run would not read and bad input
 // end in one error line and a non-zero exit.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -48,16 +49,21 @@ TEST_CASE("program: the material room, its kernels, chapter 11's tracer and the 
   CHECK(fs::file_size(image) > 100);
   // Aliasing, measured: the filters' base-colour error against the supersampled reference.
   const nlohmann::json report = nlohmann::json::parse(std::ifstream(json));
-  double point = -1.0, trilinear = -1.0;
+  double point = -1.0, trilinear = -1.0, heitz = -1.0, caps = -1.0;
   for (const auto& row : report["rows"]) {
     const std::string variant = row["variant"];
+    if (variant == "visible normals: Heitz 2018") heitz = row["metrics"]["mean_z"];
+    if (variant.rfind("visible normals: spherical caps", 0) == 0) caps = row["metrics"]["mean_z"];
     if (variant.rfind("textures: point", 0) == 0) point = row["metrics"]["aliasing_rmse"];
     if (variant.rfind("textures: trilinear", 0) == 0)
       trilinear = row["metrics"]["aliasing_rmse"];
   }
-  CAPTURE(point, trilinear);
+  CAPTURE(point, trilinear, heitz, caps);
   REQUIRE(point > 0.0);
   REQUIRE(trilinear > 0.0);
+  // The two visible-normal samplers draw the same distribution: their mean normals agree.
+  REQUIRE(heitz > 0.5);
+  CHECK(std::abs(heitz - caps) < 0.005);
 }
 
 TEST_CASE("program: the furnace sphere is the sky, in the radiance file", "[ch12]") {
