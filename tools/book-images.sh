@@ -165,6 +165,11 @@ for filter in point trilinear; do
     --width 320 --height 180 --spp 4 --filter "$filter" --eye 0.9,0.1,0.97 \
     --target -0.2,0,-1 --fov 45 --image-only --output "$img/12_aliasing_$filter.png" >/dev/null
 done
+# ...and the room's error against run time on an H200 (book/data, from tools/gpu/run.sh's
+# bench12 step).
+python3 tools/plot-convergence.py --time kernel_ms \
+  --title "Chapter 12: relative MSE against GPU time, the material room (H200, 320x240)" \
+  --out "$img/12_convergence_h200_room.svg" book/data/12_materials_h200_convergence_room.json
 
 # Diagrams of chapters 05 on, one script per chapter (matplotlib; chapter 08's also plots
 # book/data); chapters 01-04 drew theirs above.
