@@ -53,7 +53,8 @@ TEST_CASE("program: the material room, its kernels, chapter 11's tracer and the 
   for (const auto& row : report["rows"]) {
     const std::string variant = row["variant"];
     if (variant == "visible normals: Heitz 2018") heitz = row["metrics"]["mean_z"];
-    if (variant.rfind("visible normals: spherical caps", 0) == 0) caps = row["metrics"]["mean_z"];
+    if (variant.rfind("visible normals: spherical caps", 0) == 0)
+      caps = row["metrics"]["mean_z"];
     if (variant.rfind("textures: point", 0) == 0) point = row["metrics"]["aliasing_rmse"];
     if (variant.rfind("textures: trilinear", 0) == 0)
       trilinear = row["metrics"]["aliasing_rmse"];
