@@ -44,6 +44,28 @@ TEST_CASE("furnace: a smooth glass sphere is invisible (radiance 1 within 0.5%)"
   CHECK(std::abs(s.mean - 1.0) < 0.005);
 }
 
+TEST_CASE("furnace from inside the glass: radiance is eta^2 times the sky's", "[ch12]") {
+  // Radiance crossing into a denser medium is compressed into a narrower cone: inside glass of
+  // index eta under a sky of 1 it is eta^2 (the 1 / eta^2 of every refraction, undone). Seen
+  // from outside, the two crossings cancel and a renderer without the factor passes; from
+  // inside, one crossing is left, and only the factor gives eta^2.
+  for (const float ior : {1.5f, 1.33f}) {
+    CAPTURE(ior);
+    Material glass = named_material("glass");
+    glass.ior = ior;
+    const MaterialScene scene = make_sphere_in_sky(glass, 4, 1.0f);
+    CameraSpec inside = sphere_camera();
+    inside.eye = {0.0, 0.0, 0.0};
+    inside.target = {0.0, 0.0, -1.0};
+    inside.fov_degrees = 60.0;
+    const Render r = render(scene, Backend::cpu, inside, k_small, 64);
+    const MeanAndError s = pixel_statistics(r.mean);
+    CAPTURE(s.mean, s.standard_error);
+    CHECK(r.non_finite == 0);
+    CHECK(std::abs(s.mean / (double(ior) * ior) - 1.0) < 0.005);
+  }
+}
+
 TEST_CASE("furnace: a slightly rough glass sphere is invisible (radiance 1 within 0.5%)",
           "[ch12]") {
   // Rougher glass loses light the way a rough metal does (light that the microfacets send
