@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Chapter 08's diagrams and plot (book/images/08_*.svg): the memory a Hopper multiprocessor
-reads the tree through, the packed 16-byte records, and each memory path's speed against
-chapter 07's plain loads, from the benchmark's JSON in book/data.
+"""Chapter 08's diagrams and plots (book/images/08_*.svg): the memory a Hopper multiprocessor
+reads the tree through, the packed 16-byte records, each memory path's speed against chapter
+07's plain loads, and the read-only promise's loss on the wide loads (float4_ldg against
+float4, on the H100 and the H200), from the benchmarks' JSON in book/data.
 
   tools/diagrams/ch08.py [OUT_DIR]     (default: book/images)
 """
@@ -16,7 +17,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import FancyArrowPatch, Rectangle  # noqa: E402
 
 BLUE, GREY, RED, GREEN, GOLD = "#2a7ab0", "#555555", "#c0392b", "#2e8b57", "#d4a017"
-DATA = Path(__file__).resolve().parents[2] / "book" / "data" / "08_benchmark.json"
+BOOK_DATA = Path(__file__).resolve().parents[2] / "book" / "data"
+DATA = BOOK_DATA / "08_benchmark.json"
+DATA_H200 = BOOK_DATA / "08_benchmark_h200.json"
 
 
 def save(fig, path):
@@ -115,8 +118,10 @@ def records(out):
     save(fig, out / "08_packed_records.svg")
 
 
-def paths_plot(out):
-    with open(DATA, encoding="utf-8") as f:
+def gpu_speeds(data):
+    """Mrays/s of each (scene, ray type, path) row the GPU measured, the camera kernels left
+    out (their variants name more than three things)."""
+    with open(data, encoding="utf-8") as f:
         report = json.load(f)
     speed = {}
     for row in report["rows"]:
@@ -125,6 +130,11 @@ def paths_plot(out):
             continue
         scene, ray_type, path = parts
         speed[(scene, ray_type, path)] = row["metrics"]["mrays_per_s"]
+    return speed
+
+
+def paths_plot(out):
+    speed = gpu_speeds(DATA)
     paths = ["ldg", "float4", "float4_ldg", "texture"]
     ray_types = ["primary", "ao", "diffuse"]
     scenes = sorted({k[0] for k in speed if k[2] == "global"})
@@ -149,12 +159,55 @@ def paths_plot(out):
     save(fig, out / "08_paths_vs_global.svg")
 
 
+def read_only_plot(out):
+    """The failure of a rule: __ldg added to the 16-byte loads (float4_ldg) against the same
+    loads without it (float4), cell by cell, on both GPUs the benchmark ran on."""
+    gpus = [("H100", DATA, "o", BLUE), ("H200", DATA_H200, "^", RED)]
+    ray_types = [("primary", "primary rays"), ("ao", "ambient occlusion"),
+                 ("diffuse", "diffuse rays")]
+    fig, ax = plt.subplots(figsize=(10, 4.4))
+    scenes = []
+    for g, (name, data, marker, colour) in enumerate(gpus):
+        speed = gpu_speeds(data)
+        scenes = list(dict.fromkeys(k[0] for k in speed))  # in the benchmark's order
+        slower = cells = 0
+        for t, (ray_type, _) in enumerate(ray_types):
+            for s, scene in enumerate(scenes):
+                ratio = (speed[(scene, ray_type, "float4_ldg")] /
+                         speed[(scene, ray_type, "float4")])
+                slower += ratio < 1.0
+                cells += 1
+                ax.scatter(t * (len(scenes) + 1) + s, ratio, marker=marker, color=colour, s=30,
+                           zorder=3, label=name if t == 0 and s == 0 else None)
+        ax.text(0.99, 0.97 - 0.07 * g,
+                f"{name}: float4_ldg slower in {slower} of {cells} cells", ha="right",
+                va="top", transform=ax.transAxes, fontsize=8, color=colour)
+    ax.axhspan(0.8, 1.0, color="#fbeeee", zorder=0)
+    ax.axhline(1.0, color=GREY, linewidth=0.8)
+    ticks = [t * (len(scenes) + 1) + s
+             for t in range(len(ray_types)) for s in range(len(scenes))]
+    ax.set_xticks(ticks, scenes * len(ray_types), rotation=35, ha="right", fontsize=7.5)
+    for t, (_, label) in enumerate(ray_types):
+        ax.text(t * (len(scenes) + 1) + (len(scenes) - 1) / 2, 1.125, label, ha="center",
+                fontsize=9, color=GREY)
+    ax.text(-0.4, 0.81, "below 1: the read-only promise made the wide loads slower", fontsize=8,
+            color=RED)
+    ax.set_ylabel("float4_ldg Mrays/s / float4 Mrays/s")
+    ax.set_ylim(0.8, 1.22)
+    ax.set_title("Chapter 08: __ldg on the 16-byte loads, against the same loads without it "
+                 "(1920x1080)", fontsize=10, loc="left")
+    ax.grid(True, axis="y", color="#dddddd", linewidth=0.6)
+    ax.legend(loc="upper left", fontsize=8, ncol=2)
+    save(fig, out / "08_read_only_loss.svg")
+
+
 def main():
     out = Path(sys.argv[1] if len(sys.argv) > 1 else "book/images")
     plt.rcParams.update({"svg.hashsalt": "rt-course-ch08", "font.family": "DejaVu Sans"})
     hopper(out)
     records(out)
     paths_plot(out)
+    read_only_plot(out)
 
 
 if __name__ == "__main__":
