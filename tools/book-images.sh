@@ -172,8 +172,10 @@ python3 tools/plot-convergence.py --time kernel_ms \
   --out "$img/12_convergence_h200_room.svg" book/data/12_materials_h200_convergence_room.json
 
 # Diagrams of chapters 05 on, one script per chapter (matplotlib; chapter 08's also plots
-# book/data); chapters 01-04 drew theirs above.
-for n in 05 06 07 08; do python3 "tools/diagrams/ch$n.py" "$img"; done
+# book/data: each memory path against plain loads, and __ldg's loss on the 16-byte loads on the
+# H100 and the H200); chapters 01-04 drew theirs above. Chapter 09's is its compressed node,
+# byte by byte.
+for n in 05 06 07 08 09; do python3 "tools/diagrams/ch$n.py" "$img"; done
 
 # Chapter 10: the moving scene's 90th frame, and the diagram of Karras's tree with the plot of
 # rebuild against refit (from the frames measured on the CPU, book/data/10_animation_cpu.csv,
