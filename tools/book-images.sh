@@ -117,6 +117,21 @@ done
   --spp 256 --reference-spp 4096 --json book/data/11_path_tracing_convergence.json >/dev/null
 python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time (CPU, 64x48)" \
   --out "$img/11_convergence.svg" book/data/11_path_tracing_convergence.json
+# ...chapter 10's moving scene, its 30th frame at 64 samples per pixel (seconds on the CPU)...
+"$bin/ch11_path_tracing" --moving --headless --backend cpu --image-only --frames 30 \
+  --width 320 --height 180 --sun 0.4,1,0.3 --sky 0.6 --spp 64 \
+  --output "$img/11_moving.png" >/dev/null
+# ...and the error against run time of the three scenes on an H200, against the kernels' time
+# (book/data, from tools/gpu/run.sh's bench11 step).
+convergence_h200() {
+  local scene="$1" name="$2"
+  python3 tools/plot-convergence.py --time kernel_ms \
+    --title "Chapter 11: $name (H200, 320x240)" \
+    --out "$img/11_convergence_h200_$scene.svg" "book/data/11_convergence_h200_$scene.json"
+}
+convergence_h200 room "the Cornell room"
+convergence_h200 sponza "Sponza in sunlight"
+convergence_h200 conference "the conference room"
 
 # Chapter 12: the material room (its glTF camera) at 320x240 and 128 samples per pixel; the
 # roughness series of gold, glass and a white metal, the metal also without energy
