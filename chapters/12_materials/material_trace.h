@@ -181,14 +181,35 @@ struct Frame {
   }
 };
 
+// The radiance an emitter sends from its point q: its material's emission, times its
+// emission texture where it has one, read at level 0 (a shadow ray has no cone of its own;
+// the light table picked the triangle by the factor alone, which bounds the texture's product).
+template <class F>
+RT_HD Vec3f emission_at(const MaterialSceneView& s, F features, int triangle,
+                        const ch04::TriangleF& corners, Vec3f q) {
+  const Material& m = s.surfaces[s.material[triangle]];
+  Vec3f emission = m.emission;
+  if constexpr (F::compiled(k_textures)) {
+    if (features.on(k_textures) && s.uv != nullptr && m.emission_texture != k_no_texture) {
+      const Vec2f b = barycentric(corners, q);
+      const Vec2f* c = s.uv + 3 * triangle;
+      const Vec2f uv = c[0] * (1.0f - b.x - b.y) + c[1] * b.x + c[2] * b.y;
+      const Vec4f texel = sample_texture(s.textures, m.emission_texture, uv, 0.0f);
+      emission = {emission.x * texel.x, emission.y * texel.y, emission.z * texel.z};
+    }
+  }
+  return emission;
+}
+
 // [listing:material_next_event]
 // Next-event estimation through a BSDF: chapter 11's point on an emitter, its contribution
 // f(wo, wi) |cos| Le / pdf_light, weighed against the BSDF's density for the same direction.
-RT_HD inline void sample_emitter_bsdf(const MaterialSceneView& s, const PathState& path,
-                                      Vec3f p, const Frame& frame,
-                                      const ch04::TriangleF& triangle, Vec3f wo,
-                                      const Bsdf& bsdf, Strategy strategy,
-                                      ShadowRays& shadows) {
+// The density is the light table's, by the emission factor; Le is what the point emits.
+template <class F>
+RT_HD void sample_emitter_bsdf(const MaterialSceneView& s, F features, const PathState& path,
+                               Vec3f p, const Frame& frame, const ch04::TriangleF& triangle,
+                               Vec3f wo, const Bsdf& bsdf, Strategy strategy,
+                               ShadowRays& shadows) {
   const ch11::LightPoint light = ch11::sample_light_point(
       s, ch11::number(path, ch11::k_light_pick), ch11::number(path, ch11::k_light_u),
       ch11::number(path, ch11::k_light_v));
@@ -207,8 +228,9 @@ RT_HD inline void sample_emitter_bsdf(const MaterialSceneView& s, const PathStat
   const Vec3f wi = frame.to_local(wi_world);
   const Vec3f f_cos = eval_f_cos(bsdf, wo, wi, s.compensation);
   if (!(max_component(f_cos) > 0.0f)) return;
-  const Vec3f emission = s.materials[s.material[light.triangle]].emission;
-  const float pdf_light = ch11::light_area_density(s, emission) * distance_squared / cos_q;
+  const Vec3f factor = s.materials[s.material[light.triangle]].emission;
+  const float pdf_light = ch11::light_area_density(s, factor) * distance_squared / cos_q;
+  const Vec3f emission = emission_at(s, features, light.triangle, t, light.point);
   const float weight =
       strategy == Strategy::mis
           ? ch11::power_heuristic(pdf_light, density(bsdf, wo, wi, s.compensation))
@@ -274,7 +296,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
   if constexpr (F::compiled(k_emitters))
     if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0 &&
         !smooth_only)
-      sample_emitter_bsdf(s, path, p, frame, triangle, wo, bsdf, strategy, shadows);
+      sample_emitter_bsdf(s, features, path, p, frame, triangle, wo, bsdf, strategy, shadows);
   // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
   BsdfSample bounce;
   if (!sample_f(bsdf, wo, number(path, k_lobe_pick), number(path, k_bsdf_u),

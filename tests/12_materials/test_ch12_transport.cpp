@@ -233,3 +233,67 @@ TEST_CASE("the material room as OBJ/MTL and as glTF renders the same image", "[c
   const MeanAndError sa = pixel_statistics(a.mean), sb = pixel_statistics(b.mean);
   CHECK(std::abs(sa.mean - sb.mean) < 0.01 * sa.mean);
 }
+
+namespace {
+
+// A square lamp of side 2 at height 1, facing down, over a grey floor; its emission texture
+// (when `textured`) is black on one half and white on the other, split across the middle.
+MaterialScene textured_lamp_scene(bool textured) {
+  MaterialScene scene;
+  ch11::PathScene& s = scene.path;
+  const auto add_quad = [&](Vec3f a, Vec3f b, Vec3f c, Vec3f d, int material) {
+    const int base = static_cast<int>(s.mesh.vertices.size());
+    s.mesh.vertices.insert(s.mesh.vertices.end(), {a, b, c, d});
+    s.mesh.triangles.push_back({base, base + 1, base + 2});
+    s.mesh.triangles.push_back({base, base + 2, base + 3});
+    s.material.insert(s.material.end(), {material, material});
+  };
+  Material floor;
+  floor.base_color = {0.5f, 0.5f, 0.5f};
+  Material lamp;
+  lamp.base_color = {0.0f, 0.0f, 0.0f};
+  lamp.emission = {4.0f, 4.0f, 4.0f};
+  if (textured) {
+    lamp.emission_texture = 0;
+    scene.textures.push_back(make_texture("half black, half white", 2, 1,
+                                          {{0, 0, 0, 255}, {255, 255, 255, 255}}, true));
+  }
+  for (const Material& m : {floor, lamp}) {
+    scene.materials.push_back(m);
+    s.materials.push_back({m.base_color, m.emission});
+  }
+  add_quad({-20, 0, 20}, {20, 0, 20}, {20, 0, -20}, {-20, 0, -20}, 0); // faces up
+  add_quad({-1, 1, -1}, {1, 1, -1}, {1, 1, 1}, {-1, 1, 1}, 1);         // faces down
+  scene.uv.resize(s.mesh.triangles.size());
+  scene.uv[2] = {Vec2f{0, 0}, Vec2f{1, 0}, Vec2f{1, 1}}; // u runs along x on the lamp
+  scene.uv[3] = {Vec2f{0, 0}, Vec2f{1, 1}, Vec2f{0, 1}};
+  s.lights = ch11::build_light_table(s);
+  check_material_scene(scene, "the textured lamp");
+  return scene;
+}
+
+} // namespace
+
+TEST_CASE("an emission texture: next-event estimation and bounces see the same lamp",
+          "[ch12]") {
+  // Right below the lamp's middle the floor sees the black and the white half alike: with the
+  // texture it receives half of what the untextured lamp gives it, by either strategy.
+  CameraSpec camera; // between lamp and floor, looking straight down at a small patch
+  camera.eye = {0.0, 0.5, 0.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.up = {0.0, 0.0, -1.0};
+  camera.fov_degrees = 2.0;
+  const MaterialScene plain = textured_lamp_scene(false), textured = textured_lamp_scene(true);
+  for (const ch11::Strategy strategy : {ch11::Strategy::light, ch11::Strategy::bsdf}) {
+    CAPTURE(ch11::to_string(strategy));
+    const RenderSettings settings{PathVariant::megakernel, ch06::KernelKind::specialised,
+                                  strategy};
+    const MeanAndError full =
+        pixel_statistics(render(plain, Backend::cpu, camera, {16, 16}, 64, settings).mean);
+    const Render half = render(textured, Backend::cpu, camera, {16, 16}, 64, settings);
+    const MeanAndError h = pixel_statistics(half.mean);
+    CAPTURE(full.mean, h.mean, full.standard_error, h.standard_error);
+    CHECK(half.non_finite == 0);
+    CHECK(std::abs(h.mean / full.mean - 0.5) < 0.03);
+  }
+}
