@@ -159,12 +159,7 @@ int run(ChapterOptions& options) {
           },
       .measure =
           [&](Report& rows) {
-            rows.add_context("scene", scene.path.description + ", " +
-                                          group_digits(std::ssize(scene.path.mesh.triangles)) +
-                                          " triangles, " +
-                                          std::to_string(scene.materials.size()) +
-                                          " materials, " +
-                                          std::to_string(scene.textures.size()) + " textures");
+            rows.add_context("scene", scene.path.description);
             MaterialRenderer& r = renderer_for(backend);
             ch11::add_kernel_rows(r, options.settings.strategy, camera, options.common.extent(),
                                   options.common.frames, rows);
