@@ -18,7 +18,7 @@
 #include "path_render.h"
 #include "path_report.h"
 #include "program.h"
-#include "progressive_flags.h"
+#include "progressive_program.h"
 #include "protocol.h"
 #include "rt/image.h"
 #include "rt/program_output.h"
@@ -138,7 +138,7 @@ int run(ChapterOptions& options) {
   Report report = start_report("Chapter 11: progressive path tracing", "Mpaths/s",
                                "the first row's sums after the same samples", backend);
   std::optional<PathRenderer> renderer; // made for the first frame
-  std::optional<std::pair<CameraSpec, Extent>> shown;
+  ShownView shown;
   const auto renderer_for = [&](Backend b) -> PathRenderer& {
     if (!renderer)
       renderer.emplace(scene, b, options.moving ? TreeBuild::lbvh : TreeBuild::sah);
@@ -179,15 +179,8 @@ int run(ChapterOptions& options) {
                       .mesh.vertices);
               shown.reset();
             }
-            const bool same =
-                shown && shown->second.width == extent.width &&
-                shown->second.height == extent.height && shown->first.eye == spec.eye &&
-                shown->first.target == spec.target && shown->first.up == spec.up &&
-                shown->first.fov_degrees == spec.fov_degrees;
-            if (!same) r.restart(spec, extent);
-            shown = {spec, extent};
-            r.add_samples(options.settings, 1);
-            r.tone_map_into(pixels, float(options.exposure));
+            add_window_frame(r, shown, spec, extent, options.settings, float(options.exposure),
+                             pixels);
           },
       .window_row =
           [&](const ch03::WindowResult& seen) {

@@ -21,7 +21,7 @@
 #include "material_scenes.h"
 #include "path_report.h"
 #include "program.h"
-#include "progressive_flags.h"
+#include "progressive_program.h"
 #include "rt/image.h"
 #include "rt/program_output.h"
 #include "scene_loaders.h"
@@ -113,7 +113,7 @@ int run(ChapterOptions& options) {
   Report report = start_report("Chapter 12: materials, textures and glTF scenes", "Mpaths/s",
                                "the first row's sums after the same samples", backend);
   std::optional<MaterialRenderer> renderer;
-  std::optional<std::pair<CameraSpec, Extent>> shown;
+  ch11::ShownView shown;
   const auto renderer_for = [&](Backend b) -> MaterialRenderer& {
     if (!renderer) renderer.emplace(scene, b, options.materials);
     return *renderer;
@@ -143,15 +143,8 @@ int run(ChapterOptions& options) {
       .render =
           [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
             MaterialRenderer& r = renderer_for(b);
-            const bool same =
-                shown && shown->second.width == extent.width &&
-                shown->second.height == extent.height && shown->first.eye == spec.eye &&
-                shown->first.target == spec.target && shown->first.up == spec.up &&
-                shown->first.fov_degrees == spec.fov_degrees;
-            if (!same) r.restart(spec, extent);
-            shown = {spec, extent};
-            r.add_samples(options.settings, 1);
-            r.tone_map_into(pixels, float(options.exposure));
+            ch11::add_window_frame(r, shown, spec, extent, options.settings,
+                                   float(options.exposure), pixels);
           },
       .window_row =
           [&](const ch03::WindowResult& seen) {

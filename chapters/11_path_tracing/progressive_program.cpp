@@ -1,5 +1,5 @@
-// Chapter 11: the flags every progressive renderer's program refuses. See progressive_flags.h.
-#include "progressive_flags.h"
+// Chapter 11: what every progressive renderer's program does alike. See progressive_program.h.
+#include "progressive_program.h"
 
 #include <string>
 
@@ -32,6 +32,19 @@ void refuse_progressive_flags(const CLI::App& app, const ch03::ProgramOptions& o
       (options.display.headless || options.image_only))
     throw UsageError("--output \"\" and no --json: the run would write nothing (leave out "
                      "--output for the image, or give --json for the report)");
+}
+
+void add_window_frame(ProgressiveRenderer& renderer, ShownView& shown, const CameraSpec& camera,
+                      Extent extent, const RenderSettings& settings, float exposure,
+                      Rgba8* pixels) {
+  const bool same = shown && shown->second.width == extent.width &&
+                    shown->second.height == extent.height && shown->first.eye == camera.eye &&
+                    shown->first.target == camera.target && shown->first.up == camera.up &&
+                    shown->first.fov_degrees == camera.fov_degrees;
+  if (!same) renderer.restart(camera, extent);
+  shown = {camera, extent};
+  renderer.add_samples(settings, 1);
+  renderer.tone_map_into(pixels, exposure);
 }
 
 } // namespace rt::ch11
