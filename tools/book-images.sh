@@ -190,7 +190,7 @@ python3 tools/plot-convergence.py --time kernel_ms \
 # book/data: each memory path against plain loads, and __ldg's loss on the 16-byte loads on the
 # H100 and the H200); chapters 01-04 drew theirs above. Chapter 09's is its compressed node,
 # byte by byte.
-for n in 05 06 07 08 09; do python3 "tools/diagrams/ch$n.py" "$img"; done
+for n in 05 06 07 08 09 11; do python3 "tools/diagrams/ch$n.py" "$img"; done
 
 # Chapter 10: the moving scene's 90th frame, and the diagram of Karras's tree with the plot of
 # rebuild against refit (from the frames measured on the CPU, book/data/10_animation_cpu.csv,
