@@ -231,6 +231,34 @@ RT_HD inline void sample_emitter(const PathSceneView& s, const PathState& path, 
 // [/listing:next_event]
 
 // [listing:shade_vertex]
+// The weight of an emitter that the path's ray found at distance t, at cosine cos_q with its
+// normal, emitting `emission` (the factor the light table weighs it by): 1 for the camera ray
+// (bsdf_pdf 0), 0 when only shadow rays may find lights, and under MIS the power heuristic
+// against the density with which next-event estimation would have picked the same point.
+RT_HD inline float emitter_hit_weight(const PathSceneView& s, const PathState& path,
+                                      Strategy strategy, Vec3f emission, float cos_q, float t) {
+  if (!(path.bsdf_pdf > 0.0f)) return 1.0f;
+  if (strategy == Strategy::light) return 0.0f;
+  if (strategy == Strategy::bsdf) return 1.0f; // only bounces find lights
+  const float pdf_light = light_area_density(s, emission) * t * t / absolute(cos_q);
+  return power_heuristic(path.bsdf_pdf, pdf_light);
+}
+
+// Russian roulette after the bounce has weighted the throughput: false ends the path. From
+// k_roulette_from_vertex on, the path survives with the probability of its throughput's
+// largest channel times `scale` (1 here; a later chapter takes refraction's radiance scaling
+// out this way), capped, and carries 1 / survival; before, only a black throughput ends it.
+RT_HD inline bool survives_roulette(PathState& path, float scale = 1.0f) {
+  if (path.vertex >= k_roulette_from_vertex) {
+    const float survive =
+        min_of(max_component(path.throughput) * scale, k_roulette_max_survival);
+    if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
+    path.throughput = path.throughput / survive;
+    return true;
+  }
+  return max_component(path.throughput) > 0.0f; // a black surface: nothing more comes back
+}
+
 // One vertex of a path: `hit` is what path.ray found. Adds what the path sees there, fills
 // `shadows` with the next-event rays, and bounces: false when the path ends.
 template <class F>
@@ -249,16 +277,9 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
   const PathMaterial m = s.materials[s.material[hit.triangle]];
   if constexpr (F::compiled(k_emitters)) {
     const bool front = dot(front_normal(triangle, -d), d) < 0.0f; // emits from the front only
-    if (features.on(k_emitters) && front && max_component(m.emission) > 0.0f) {
-      float weight = 1.0f; // the camera ray's hit, or a bounce when only bounces find lights
-      if (path.bsdf_pdf > 0.0f && strategy == Strategy::light) weight = 0.0f;
-      if (path.bsdf_pdf > 0.0f && strategy == Strategy::mis) {
-        const float cos_q = absolute(dot(n, d));
-        const float pdf_light = light_area_density(s, m.emission) * hit.t * hit.t / cos_q;
-        weight = power_heuristic(path.bsdf_pdf, pdf_light);
-      }
-      path.radiance += path.throughput * m.emission * weight;
-    }
+    if (features.on(k_emitters) && front && max_component(m.emission) > 0.0f)
+      path.radiance += path.throughput * m.emission *
+                       emitter_hit_weight(s, path, strategy, m.emission, dot(n, d), hit.t);
   }
   const Vec3f origin = spawn_origin(p, n, triangle);
   if constexpr (F::compiled(k_sun)) {
@@ -277,13 +298,7 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
   const DirectionSample bounce =
       sample_cosine(n, number(path, k_bsdf_u), number(path, k_bsdf_v));
   path.throughput = path.throughput * m.albedo;
-  if (path.vertex >= k_roulette_from_vertex) {
-    const float survive = min_of(max_component(path.throughput), k_roulette_max_survival);
-    if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
-    path.throughput = path.throughput / survive;
-  } else if (!(max_component(path.throughput) > 0.0f)) {
-    return false; // a black surface: nothing more can come back
-  }
+  if (!survives_roulette(path)) return false;
   path.ray = {origin, bounce.direction};
   path.bsdf_pdf = bounce.pdf;
   return true;

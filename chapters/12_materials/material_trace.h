@@ -263,16 +263,10 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
       surface_at(s, features, m, hit.triangle, triangle, p, path.cone, dot(front, d));
   const Bsdf& bsdf = surface.bsdf;
   if constexpr (F::compiled(k_emitters)) { // emits from the front only, as chapter 11
-    if (features.on(k_emitters) && from_front && max_component(surface.emission) > 0.0f) {
-      float weight = 1.0f; // the camera ray, or a bounce of a smooth lobe (bsdf_pdf 0)
-      if (path.bsdf_pdf > 0.0f && strategy == Strategy::light) weight = 0.0f;
-      if (path.bsdf_pdf > 0.0f && strategy == Strategy::mis) {
-        const float cos_q = absolute(dot(front, d));
-        const float pdf_light = light_area_density(s, m.emission) * hit.t * hit.t / cos_q;
-        weight = power_heuristic(path.bsdf_pdf, pdf_light);
-      }
-      path.radiance += path.throughput * surface.emission * weight;
-    }
+    // the camera ray, or a bounce of a smooth lobe (bsdf_pdf 0), weighs 1
+    if (features.on(k_emitters) && from_front && max_component(surface.emission) > 0.0f)
+      path.radiance += path.throughput * surface.emission *
+                       emitter_hit_weight(s, path, strategy, m.emission, dot(front, d), hit.t);
   }
   // The frame: the front face's for a surface light passes through (wo below it: inside),
   // else turned to the viewer (surfaces reflect on both sides, as chapter 11's).
@@ -313,14 +307,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
     const float eta = wo.z > 0.0f ? bsdf.ior : 1.0f / bsdf.ior; // inside over outside
     path.eta_scale *= eta * eta;
   }
-  if (path.vertex >= k_roulette_from_vertex) {
-    const float survive =
-        min_of(max_component(path.throughput) * path.eta_scale, k_roulette_max_survival);
-    if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
-    path.throughput = path.throughput / survive;
-  } else if (!(max_component(path.throughput) > 0.0f)) {
-    return false;
-  }
+  if (!survives_roulette(path, path.eta_scale)) return false;
   // [/listing:roulette_eta]
   const Vec3f direction = frame.to_world(bounce.wi);
   const Vec3f side = bounce.wi.z >= 0.0f ? n : -n;
