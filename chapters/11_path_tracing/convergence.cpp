@@ -56,6 +56,56 @@ ImageError image_error(const std::vector<Vec3f>& image, const std::vector<double
 }
 // [/listing:rel_mse]
 
+double lowpass_share(const std::vector<Vec3f>& image, const std::vector<double>& reference,
+                     Extent extent) {
+  const int w = extent.width, h = extent.height;
+  if (w < 3 || h < 3) return 0.0;
+  std::vector<double> e(image.size());
+  for (std::size_t i = 0; i < image.size(); ++i) // luminance, path_sampling.h's weights
+    e[i] = 0.2126 * (double(image[i].x) - reference[3 * i]) +
+           0.7152 * (double(image[i].y) - reference[3 * i + 1]) +
+           0.0722 * (double(image[i].z) - reference[3 * i + 2]);
+  double filtered = 0.0, raw = 0.0;
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      double box = 0.0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) box += e[std::size_t(y + dy) * w + (x + dx)];
+      box /= 9.0;
+      filtered += box * box;
+      const double own = e[std::size_t(y) * w + x];
+      raw += own * own;
+    }
+  return raw > 0.0 ? filtered / raw : 0.0;
+}
+
+namespace {
+
+// Adds `samples` samples to the renderer and the time they took to the two clocks.
+void add_timed_samples(ProgressiveRenderer& renderer, const RenderSettings& settings,
+                       int samples, double& wall_ms, double& kernel_ms) {
+  const auto start = std::chrono::steady_clock::now();
+  BackendStopwatch kernels(renderer.backend());
+  renderer.add_samples(settings, samples);
+  kernel_ms += kernels.milliseconds();
+  renderer.synchronize();
+  wall_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                 .count();
+}
+
+ConvergencePoint point_now(const ProgressiveRenderer& renderer, double wall_ms,
+                           double kernel_ms, const Reference& reference) {
+  const std::vector<Vec3f> image = renderer.mean_radiance();
+  return {renderer.samples(),
+          wall_ms,
+          kernel_ms,
+          image_error(image, reference.radiance),
+          renderer.non_finite(),
+          lowpass_share(image, reference.radiance, renderer.extent())};
+}
+
+} // namespace
+
 std::vector<ConvergencePoint> measure_convergence(ProgressiveRenderer& renderer,
                                                   const RenderSettings& settings,
                                                   const CameraSpec& camera, Extent extent,
@@ -64,26 +114,49 @@ std::vector<ConvergencePoint> measure_convergence(ProgressiveRenderer& renderer,
   renderer.restart(camera, extent);
   double wall_ms = 0.0, kernel_ms = 0.0;
   for (int target = 1; target <= max_samples; target *= 2) {
-    const int more = target - renderer.samples();
-    const auto start = std::chrono::steady_clock::now();
-    BackendStopwatch kernels(renderer.backend());
-    renderer.add_samples(settings, more);
-    kernel_ms += kernels.milliseconds();
-    renderer.synchronize();
-    wall_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count();
-    points.push_back({target, wall_ms, kernel_ms,
-                      image_error(renderer.mean_radiance(), reference.radiance),
-                      renderer.non_finite()});
+    add_timed_samples(renderer, settings, target - renderer.samples(), wall_ms, kernel_ms);
+    points.push_back(point_now(renderer, wall_ms, kernel_ms, reference));
   }
   return points;
+}
+
+std::vector<ConvergencePoint> measure_sampler_convergence(ProgressiveRenderer& renderer,
+                                                          RenderSettings settings,
+                                                          const CameraSpec& camera,
+                                                          Extent extent, int max_samples,
+                                                          const Reference& reference) {
+  std::vector<ConvergencePoint> points;
+  for (int target = 1; target <= max_samples; target *= 2) {
+    settings.sampler_samples = target;
+    renderer.restart(camera, extent);
+    double wall_ms = 0.0, kernel_ms = 0.0;
+    add_timed_samples(renderer, settings, target, wall_ms, kernel_ms);
+    points.push_back(point_now(renderer, wall_ms, kernel_ms, reference));
+  }
+  return points;
+}
+
+double convergence_slope(const std::vector<ConvergencePoint>& points) {
+  double n = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (const ConvergencePoint& p : points) {
+    if (!(p.error.rmse > 0.0)) continue;
+    const double x = std::log(double(p.samples)), y = std::log(p.error.rmse * p.error.rmse);
+    n += 1.0;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  const double d = n * sxx - sx * sx;
+  return n >= 2.0 && d > 0.0 ? (n * sxy - sx * sy) / d : 0.0;
 }
 
 std::string describe(const RenderSettings& settings) {
   std::string text =
       std::string(to_string(settings.variant)) + ", " + to_string(settings.strategy);
   if (settings.kernel == KernelKind::all_features) text += ", all features";
+  if (settings.sampler != SamplerKind::independent)
+    text += std::string(", ") + to_string(settings.sampler) + " sampler";
   return text;
 }
 
@@ -97,10 +170,11 @@ void add_convergence_rows(Report& report, const std::string& variant, Backend ba
     row.throughput = p.wall_ms > 0.0 ? double(pixels) * p.samples / (p.wall_ms * 1e3) : 0.0;
     row.error = "relMSE " + format_scientific(p.error.rel_mse, 2) + ", RMSE " +
                 format_scientific(p.error.rmse, 2) + ", " + std::to_string(p.non_finite) +
-                " NaN/Inf";
+                " NaN/Inf, low-pass share " + format_fixed(p.lowpass, 3);
     row.metrics = {{"samples", p.samples},       {"wall_ms", p.wall_ms},
                    {"kernel_ms", p.kernel_ms},   {"rmse", p.error.rmse},
-                   {"rel_mse", p.error.rel_mse}, {"non_finite", double(p.non_finite)}};
+                   {"rel_mse", p.error.rel_mse}, {"non_finite", double(p.non_finite)},
+                   {"error_lowpass", p.lowpass}};
     report.add_row(std::move(row));
   }
 }

@@ -7,6 +7,7 @@
 //   --window          progressive display; moving the camera starts the sums again
 //   --convergence     error against run time at 1, 2, 4, ... --spp samples per pixel, against
 //                     a float64 reference of --reference-spp samples, for every strategy
+//                     (with --samplers, for every sampler)
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -33,6 +34,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   int spp = 64;
   double seconds = 0.0; // > 0: as many samples as fit in this time, instead of --spp
   bool convergence = false;
+  bool samplers = false; // --convergence compares the samplers
   int reference_spp = 1024;
   RenderSettings settings{.variant = PathVariant::persistent}; // the GPU's fastest
   double exposure = 1.0;
@@ -128,12 +130,17 @@ int run(ChapterOptions& options) {
   ch03::validate_camera(camera);
   if (options.convergence) {
     PathRenderer renderer(scene, backend);
-    finish_report(convergence_report(renderer, "Chapter 11: error against run time",
-                                     scene.description, camera, options.common.extent(),
-                                     options.spp, options.reference_spp),
+    const auto report = options.samplers ? sampler_convergence_report : convergence_report;
+    finish_report(report(renderer,
+                         options.samplers ? "Chapter 11: error against run time, by sampler"
+                                          : "Chapter 11: error against run time",
+                         scene.description, camera, options.common.extent(), options.spp,
+                         options.reference_spp),
                   options.common);
     return 0;
   }
+  // The image's sampler spreads its --spp samples evenly (a --seconds render: blocks of 16).
+  options.settings.sampler_samples = options.seconds > 0.0 ? 0 : options.spp;
 
   Report report = start_report("Chapter 11: progressive path tracing", "Mpaths/s",
                                "the first row's sums after the same samples", backend);
@@ -197,7 +204,7 @@ int run(ChapterOptions& options) {
               add_moving_rows(renderer_for(backend), options.settings, options.detail, camera,
                               options.common.extent(), options.common.frames, rows);
             else
-              add_kernel_rows(renderer_for(backend), options.settings.strategy, camera,
+              add_kernel_rows(renderer_for(backend), options.settings, camera,
                               options.common.extent(), options.common.frames, rows);
           },
       .image = [&] { return render_image().image(float(options.exposure)); },
@@ -259,6 +266,7 @@ int main(int argc, char** argv) {
          [&](const std::string& t) { options.settings.strategy = parse_strategy(t); },
          "Direct light by bsdf (bounces only), light (shadow rays only) or mis (both)")
       ->default_str("mis");
+  add_sampler_options(app, options.settings, options.samplers);
   app.add_option("--exposure", options.exposure,
                  "Radiance scale before the tone curve (the PNG and the window)")
       ->check(finite_range(1e-6, 1e6))

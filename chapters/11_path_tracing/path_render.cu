@@ -44,6 +44,20 @@ const char* to_string(Strategy strategy) {
   return "?";
 }
 
+const char* to_string(SamplerKind sampler) {
+  switch (sampler) {
+  case SamplerKind::independent:
+    return "independent";
+  case SamplerKind::stratified:
+    return "stratified";
+  case SamplerKind::sobol:
+    return "sobol";
+  case SamplerKind::zsobol:
+    return "zsobol";
+  }
+  return "?";
+}
+
 PathVariant parse_variant(const std::string& text) {
   if (text == "megakernel") return PathVariant::megakernel;
   if (text == "persistent") return PathVariant::persistent;
@@ -56,6 +70,12 @@ Strategy parse_strategy(const std::string& text) {
   if (text == "light") return Strategy::light;
   if (text == "mis") return Strategy::mis;
   throw UsageError("unknown strategy '" + text + "' (bsdf, light or mis)");
+}
+
+SamplerKind parse_sampler(const std::string& text) {
+  for (const SamplerKind kind : k_samplers)
+    if (text == to_string(kind)) return kind;
+  throw UsageError("unknown sampler '" + text + "' (independent, stratified, sobol or zsobol)");
 }
 
 unsigned features_used(const PathScene& scene) {
@@ -141,7 +161,8 @@ PathSceneView make_view(const PathScene& scene, PathTree::View tree, const Vec3f
           light_cdf,
           static_cast<int>(scene.lights.triangles.size()),
           static_cast<float>(scene.lights.power),
-          scene.environment};
+          scene.environment,
+          Sampler{}}; // set for each pass (accumulate)
 }
 
 } // namespace
@@ -173,6 +194,10 @@ void ProgressiveRenderer::restart(const CameraSpec& camera, Extent extent,
   non_finite_.clear();
   first_sample_ = first_sample;
   samples_ = 0;
+}
+
+Sampler ProgressiveRenderer::sampler_for(const RenderSettings& settings) const {
+  return make_sampler(settings.sampler, extent_, settings.sampler_samples);
 }
 
 void ProgressiveRenderer::empty_sums() {
@@ -269,6 +294,7 @@ void PathRenderer::resized() { queues_.reset(); }
 WavefrontPass PathRenderer::accumulate(const RenderSettings& settings, unsigned first,
                                        int samples, bool count_rays) {
   WavefrontPass pass;
+  view_.sampler = sampler_for(settings);
   with_kernel(settings.kernel, features_, [&](auto f) {
     if (settings.variant == PathVariant::megakernel) {
       run_megakernel(backend_, f, settings.strategy, view_, camera_, first, samples,

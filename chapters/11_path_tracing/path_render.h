@@ -25,15 +25,24 @@ using ch06::KernelKind;
 enum class PathVariant { megakernel, persistent, wavefront };
 const char* to_string(PathVariant variant);
 const char* to_string(Strategy strategy);
-// "megakernel" / "persistent" / "wavefront" and "bsdf" / "light" / "mis"; anything else is a
-// UsageError.
+const char* to_string(SamplerKind sampler);
+// "megakernel" / "persistent" / "wavefront", "bsdf" / "light" / "mis" and "independent" /
+// "stratified" / "sobol" / "zsobol"; anything else is a UsageError.
 PathVariant parse_variant(const std::string& text);
 Strategy parse_strategy(const std::string& text);
+SamplerKind parse_sampler(const std::string& text);
+inline constexpr SamplerKind k_samplers[] = {SamplerKind::independent, SamplerKind::stratified,
+                                             SamplerKind::sobol, SamplerKind::zsobol};
 
 struct RenderSettings {
   PathVariant variant = PathVariant::megakernel;
   KernelKind kernel = KernelKind::specialised;
   Strategy strategy = Strategy::mis;
+  SamplerKind sampler = SamplerKind::independent;
+  // The samples per pixel the sampler spreads evenly as one set (stratified's grid, zsobol's
+  // net; samplers.h), usually the image's total; 0: 16. The independent and sobol samplers
+  // need no count.
+  int sampler_samples = 0;
 };
 
 // The features a scene uses: emitters when its light table has any, sky and sun when they are
@@ -100,6 +109,8 @@ protected:
   virtual void resized() {}
   // The scene changed: the sums start again (the camera and first sample kept).
   void empty_sums();
+  // The settings' sampler for the current image (make_sampler).
+  Sampler sampler_for(const RenderSettings& settings) const;
 
   Backend backend_;
   unsigned features_;

@@ -13,13 +13,17 @@
 
 namespace rt::ch11 {
 
-void add_kernel_rows(ProgressiveRenderer& renderer, Strategy strategy, const CameraSpec& camera,
-                     Extent extent, int frames, Report& report) {
-  const RenderSettings variants[] = {
-      {PathVariant::megakernel, KernelKind::specialised, strategy},
-      {PathVariant::megakernel, KernelKind::all_features, strategy},
-      {PathVariant::persistent, KernelKind::specialised, strategy},
-      {PathVariant::wavefront, KernelKind::specialised, strategy}};
+void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settings,
+                     const CameraSpec& camera, Extent extent, int frames, Report& report) {
+  const Strategy strategy = settings.strategy;
+  RenderSettings variants[] = {{PathVariant::megakernel, KernelKind::specialised, strategy},
+                               {PathVariant::megakernel, KernelKind::all_features, strategy},
+                               {PathVariant::persistent, KernelKind::specialised, strategy},
+                               {PathVariant::wavefront, KernelKind::specialised, strategy}};
+  for (RenderSettings& v : variants) {
+    v.sampler = settings.sampler;
+    v.sampler_samples = settings.sampler_samples;
+  }
   report.add_context("kernels", "specialised on " + renderer.describe_features() +
                                     "; all features: every feature compiled in, switched by "
                                     "the scene's flags");
@@ -164,6 +168,36 @@ Report convergence_report(ProgressiveRenderer& renderer, const std::string& titl
     add_convergence_rows(
         report, describe(v), backend, extent.pixel_count(),
         measure_convergence(renderer, v, camera, extent, max_samples, reference));
+  return report;
+}
+
+Report sampler_convergence_report(ProgressiveRenderer& renderer, const std::string& title,
+                                  const std::string& scene, const CameraSpec& camera,
+                                  Extent extent, int max_samples, int reference_samples) {
+  const Backend backend = renderer.backend();
+  Report report = start_report(
+      title, "Mpaths/s", "float64 mean of " + std::to_string(reference_samples) + " spp (mis)",
+      backend);
+  report.add_context("scene", scene);
+  report.add_context("resolution", to_string(extent));
+  const Reference reference = render_reference(renderer, camera, extent, reference_samples);
+  report.add_context("reference seconds", format_fixed(reference.seconds, 1));
+  double independent_mse = 0.0;
+  for (const SamplerKind kind : k_samplers) {
+    RenderSettings settings{PathVariant::persistent, KernelKind::specialised, Strategy::mis};
+    settings.sampler = kind;
+    const std::vector<ConvergencePoint> points =
+        measure_sampler_convergence(renderer, settings, camera, extent, max_samples, reference);
+    add_convergence_rows(report, describe(settings), backend, extent.pixel_count(), points);
+    const double mse = points.back().error.rmse * points.back().error.rmse;
+    if (kind == SamplerKind::independent) independent_mse = mse;
+    report.add_context(
+        std::string("sampler ") + to_string(kind),
+        "MSE slope " + format_fixed(convergence_slope(points), 2) + "; at " +
+            std::to_string(points.back().samples) + " spp, MSE " +
+            format_fixed(independent_mse > 0.0 ? mse / independent_mse : 0.0, 3) +
+            "x the independent sampler's, " + format_fixed(points.back().wall_ms, 1) + " ms");
+  }
   return report;
 }
 

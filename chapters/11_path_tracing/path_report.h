@@ -14,10 +14,11 @@
 namespace rt::ch11 {
 
 // The specialised megakernel, the all-features megakernel and the specialised wavefront, each
-// timed over `frames` passes of one sample per pixel (0: the protocol's count) from a fresh
-// start, so that each ends with the same samples: their sums are compared bit for bit.
-void add_kernel_rows(ProgressiveRenderer& renderer, Strategy strategy, const CameraSpec& camera,
-                     Extent extent, int frames, Report& report);
+// with the settings' strategy and sampler, timed over `frames` passes of one sample per pixel
+// (0: the protocol's count) from a fresh start, so that each ends with the same samples: their
+// sums are compared bit for bit.
+void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settings,
+                     const CameraSpec& camera, Extent extent, int frames, Report& report);
 
 // --moving: `frames` frames of chapter 10's moving scene (60 for 0), each its vertices moved,
 // its tree built again on the backend and one sample per pixel by `settings`; the row gives the
@@ -60,5 +61,13 @@ inline int moving_frame_count(int frames) { return frames > 0 ? frames : 60; }
 Report convergence_report(ProgressiveRenderer& renderer, const std::string& title,
                           const std::string& scene, const CameraSpec& camera, Extent extent,
                           int max_samples, int reference_samples);
+
+// --convergence --samplers: the same reference, then the persistent threads with MIS and each
+// sampler (samplers.h), each point a fresh image of 1, 2, 4, ... max_samples samples
+// (measure_sampler_convergence). The context gives each sampler's fitted slope and its MSE at
+// max_samples against the independent sampler's.
+Report sampler_convergence_report(ProgressiveRenderer& renderer, const std::string& title,
+                                  const std::string& scene, const CameraSpec& camera,
+                                  Extent extent, int max_samples, int reference_samples);
 
 } // namespace rt::ch11

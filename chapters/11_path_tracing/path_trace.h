@@ -17,6 +17,7 @@
 #include "path_scene.h"
 #include "ray.h"
 #include "rt/atomic.h"
+#include "samplers.h"
 #include "spawn.h"
 #include "wide_traverse.h"
 
@@ -71,6 +72,7 @@ struct PathSceneView {
   int light_count;
   float light_power; // LightTable::power
   Environment environment;
+  Sampler sampler; // where the paths' numbers come from (samplers.h): set for each pass
 };
 
 // One path in flight: 72 bytes the wavefront keeps per path between its stages.
@@ -94,8 +96,9 @@ struct ShadowRays { // 92 bytes
 };
 static_assert(sizeof(ShadowRays) == 92);
 
-RT_HD inline float number(const PathState& path, unsigned dimension) {
-  return sample_number(path.pixel, path.sample, unsigned(path.vertex), dimension);
+// The path's number for `dimension` at its current vertex, from the scene's sampler.
+RT_HD inline float number(const Sampler& sampler, const PathState& path, unsigned dimension) {
+  return sample_number(sampler, path.pixel, path.sample, unsigned(path.vertex), dimension);
 }
 
 // The camera ray through the point (jx, jy) away from the centre of pixel (x, y), jx and jy
@@ -115,21 +118,23 @@ RT_HD inline RayF camera_ray_jittered(const ch03::Camera<float>& camera, int x, 
   return {o.eye + (o.basis.right * sx + o.basis.up * sy) * scale, o.basis.forward};
 }
 
-// The camera ray through a uniform random point of pixel (x, y) (vertex 0's two numbers).
+// The camera ray through a uniform random point of pixel (x, y) (vertex 0's two numbers, from
+// `sampler`).
 RT_HD inline PathState start_path(const ch03::Camera<float>& camera, int x, int y,
-                                  unsigned sample) {
+                                  unsigned sample, const Sampler& sampler = {}) {
   PathState path{};
   path.pixel = unsigned(y * camera.pinhole.width + x);
   path.sample = sample;
-  path.ray = camera_ray_jittered(camera, x, y, number(path, 0) - 0.5f, number(path, 1) - 0.5f);
+  path.ray = camera_ray_jittered(camera, x, y, number(sampler, path, 0) - 0.5f,
+                                 number(sampler, path, 1) - 0.5f);
   path.throughput = {1.0f, 1.0f, 1.0f};
   return path;
 }
 // The same, named by the scene it will be traced in: the kernels (path_kernels.cuh) start
 // every scene's paths this way, and a later chapter's scene starts its own.
-RT_HD inline PathState start_path(const PathSceneView&, const ch03::Camera<float>& camera,
+RT_HD inline PathState start_path(const PathSceneView& s, const ch03::Camera<float>& camera,
                                   int x, int y, unsigned sample) {
-  return start_path(camera, x, y, sample);
+  return start_path(camera, x, y, sample, s.sampler);
 }
 
 // The emitting triangle for a number in [0, 1): the first whose cumulative probability
@@ -207,8 +212,9 @@ RT_HD inline Vec3f facing_normal(const ch04::TriangleF& t, Vec3f side) {
 RT_HD inline void sample_emitter(const PathSceneView& s, const PathState& path, Vec3f origin,
                                  Vec3f n, Vec3f albedo, Strategy strategy,
                                  ShadowRays& shadows) {
-  const LightPoint light = sample_light_point(s, number(path, k_light_pick),
-                                              number(path, k_light_u), number(path, k_light_v));
+  const Sampler& r = s.sampler;
+  const LightPoint light = sample_light_point(
+      s, number(r, path, k_light_pick), number(r, path, k_light_u), number(r, path, k_light_v));
   const ch04::TriangleF& t = light.corners;
   const Vec3f q = light.point;
   const Vec3f n_light = front_normal(t, origin - q); // emitters emit from their front
@@ -248,11 +254,13 @@ RT_HD inline float emitter_hit_weight(const PathSceneView& s, const PathState& p
 // k_roulette_from_vertex on, the path survives with the probability of its throughput's
 // largest channel times `scale` (1 here; a later chapter takes refraction's radiance scaling
 // out this way), capped, and carries 1 / survival; before, only a black throughput ends it.
-RT_HD inline bool survives_roulette(PathState& path, float scale = 1.0f) {
+RT_HD inline bool survives_roulette(const Sampler& sampler, PathState& path,
+                                    float scale = 1.0f) {
   if (path.vertex >= k_roulette_from_vertex) {
     const float survive =
         min_of(max_component(path.throughput) * scale, k_roulette_max_survival);
-    if (!(number(path, k_roulette) < survive)) return false; // also ends NaN throughputs
+    if (!(number(sampler, path, k_roulette) < survive))
+      return false; // also ends NaN throughputs
     path.throughput = path.throughput / survive;
     return true;
   }
@@ -296,9 +304,9 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
       sample_emitter(s, path, origin, n, m.albedo, strategy, shadows);
   // The bounce: cosine-weighted, so the throughput is multiplied by the albedo alone.
   const DirectionSample bounce =
-      sample_cosine(n, number(path, k_bsdf_u), number(path, k_bsdf_v));
+      sample_cosine(n, number(s.sampler, path, k_bsdf_u), number(s.sampler, path, k_bsdf_v));
   path.throughput = path.throughput * m.albedo;
-  if (!survives_roulette(path)) return false;
+  if (!survives_roulette(s.sampler, path)) return false;
   path.ray = {origin, bounce.direction};
   path.bsdf_pdf = bounce.pdf;
   return true;

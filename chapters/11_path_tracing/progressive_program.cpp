@@ -8,18 +8,32 @@
 
 namespace rt::ch11 {
 
+void add_sampler_options(CLI::App& app, RenderSettings& settings, bool& compare_samplers) {
+  app.add_option_function<std::string>(
+         "--sampler", [&](const std::string& t) { settings.sampler = parse_sampler(t); },
+         "Where the paths' numbers come from: independent, stratified, sobol or zsobol (the "
+         "image and the window)")
+      ->default_str("independent");
+  app.add_flag("--samplers", compare_samplers,
+               "With --convergence: every sampler's error against run time, not the "
+               "strategies'");
+}
+
 void refuse_progressive_flags(const CLI::App& app, const ch03::ProgramOptions& options,
                               bool convergence) {
   const auto given = [&](const char* flag) { return app.count(flag) > 0; };
   if (convergence)
-    for (const char* flag : {"--window", "--variant", "--strategy", "--output", "--seconds",
-                             "--image-only", "--exposure", "--frames"})
+    for (const char* flag : {"--window", "--variant", "--strategy", "--sampler", "--output",
+                             "--seconds", "--image-only", "--exposure", "--frames"})
       if (given(flag))
         throw UsageError(std::string("--convergence measures every variant and strategy "
-                                     "against a reference and writes no image: not with ") +
+                                     "(with --samplers, every sampler) against a reference "
+                                     "and writes no image: not with ") +
                          flag);
   if (!convergence && given("--reference-spp"))
     throw UsageError("--reference-spp goes with --convergence");
+  if (!convergence && given("--samplers"))
+    throw UsageError("--samplers goes with --convergence");
   if (given("--spp") && given("--seconds"))
     throw UsageError("--spp and --seconds both say how long to render: give one");
   const std::string& output = options.common.output;

@@ -13,10 +13,14 @@
 
 namespace rt::ch11 {
 
+// --sampler NAME (settings.sampler) and --samplers (compare_samplers: --convergence measures
+// the samplers instead of the strategies).
+void add_sampler_options(CLI::App& app, RenderSettings& settings, bool& compare_samplers);
+
 // Throws UsageError for flags the run would not read: with `convergence`, the image's flags
-// (--window, --variant, --strategy, --output, --seconds, --image-only, --exposure, --frames);
-// --reference-spp without it; --spp with --seconds; --exposure without a tone-mapped picture
-// to scale; an --output "" that leaves the run nothing to write.
+// (--window, --variant, --strategy, --sampler, --output, --seconds, --image-only, --exposure,
+// --frames); --reference-spp and --samplers without it; --spp with --seconds; --exposure
+// without a tone-mapped picture to scale; an --output "" that leaves the run nothing to write.
 void refuse_progressive_flags(const CLI::App& app, const ch03::ProgramOptions& options,
                               bool convergence);
 

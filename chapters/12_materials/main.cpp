@@ -38,6 +38,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   int spp = 64;
   double seconds = 0.0;
   bool convergence = false;
+  bool samplers = false; // --convergence compares the samplers
   int reference_spp = 1024;
   RenderSettings settings{.variant = PathVariant::wavefront}; // the GPU's fastest here
   MaterialOptions materials;
@@ -104,12 +105,18 @@ int run(ChapterOptions& options) {
   ch03::validate_camera(camera);
   if (options.convergence) {
     MaterialRenderer renderer(scene, backend, options.materials);
-    finish_report(ch11::convergence_report(
-                      renderer, "Chapter 12: error against run time", scene.path.description,
-                      camera, options.common.extent(), options.spp, options.reference_spp),
+    const auto report =
+        options.samplers ? ch11::sampler_convergence_report : ch11::convergence_report;
+    finish_report(report(renderer,
+                         options.samplers ? "Chapter 12: error against run time, by sampler"
+                                          : "Chapter 12: error against run time",
+                         scene.path.description, camera, options.common.extent(), options.spp,
+                         options.reference_spp),
                   options.common);
     return 0;
   }
+  // The image's sampler spreads its --spp samples evenly (a --seconds render: blocks of 16).
+  options.settings.sampler_samples = options.seconds > 0.0 ? 0 : options.spp;
   Report report = start_report("Chapter 12: materials, textures and glTF scenes", "Mpaths/s",
                                "the first row's sums after the same samples", backend);
   std::optional<MaterialRenderer> renderer;
@@ -154,7 +161,7 @@ int run(ChapterOptions& options) {
           [&](Report& rows) {
             rows.add_context("scene", scene.path.description);
             MaterialRenderer& r = renderer_for(backend);
-            ch11::add_kernel_rows(r, options.settings.strategy, camera, options.common.extent(),
+            ch11::add_kernel_rows(r, options.settings, camera, options.common.extent(),
                                   options.common.frames, rows);
             add_material_rows(r, scene, options.settings, camera, options.common.extent(),
                               options.common.frames, rows);
@@ -229,6 +236,7 @@ int main(int argc, char** argv) {
          [&](const std::string& t) { options.settings.strategy = ch11::parse_strategy(t); },
          "Direct light by bsdf (bounces only), light (shadow rays only) or mis (both)")
       ->default_str("mis");
+  ch11::add_sampler_options(app, options.settings, options.samplers);
   app.add_option_function<std::string>(
          "--filter",
          [&](const std::string& t) { options.materials.filter = parse_texture_filter(t); },

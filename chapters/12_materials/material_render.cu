@@ -242,6 +242,7 @@ void MaterialRenderer::resized() { queues_.reset(); }
 
 ch11::WavefrontPass MaterialRenderer::accumulate(const RenderSettings& settings, unsigned first,
                                                  int samples, bool count_rays) {
+  view_.sampler = sampler_for(settings);
   view_.pixel_spread =
       camera_.kind == ch03::CameraKind::pinhole
           ? pinhole_spread_angle(camera_.pinhole.tan_half_vfov, camera_.pinhole.height)

@@ -54,7 +54,7 @@ RT_HD inline MaterialPath start_path(const MaterialSceneView& s,
                                      const ch03::Camera<float>& camera, int x, int y,
                                      unsigned sample) {
   MaterialPath path;
-  static_cast<PathState&>(path) = ch11::start_path(camera, x, y, sample);
+  static_cast<PathState&>(path) = ch11::start_path(camera, x, y, sample, s.sampler);
   path.cone = {0.0f, s.pixel_spread}; // a point at the eye (ray_cone.h)
   path.eta_scale = 1.0f;
   return path;
@@ -210,9 +210,10 @@ RT_HD void sample_emitter_bsdf(const MaterialSceneView& s, F features, const Pat
                                Vec3f p, const Frame& frame, const ch04::TriangleF& triangle,
                                Vec3f wo, const Bsdf& bsdf, Strategy strategy,
                                ShadowRays& shadows) {
-  const ch11::LightPoint light = ch11::sample_light_point(
-      s, ch11::number(path, ch11::k_light_pick), ch11::number(path, ch11::k_light_u),
-      ch11::number(path, ch11::k_light_v));
+  const ch11::LightPoint light =
+      ch11::sample_light_point(s, ch11::number(s.sampler, path, ch11::k_light_pick),
+                               ch11::number(s.sampler, path, ch11::k_light_u),
+                               ch11::number(s.sampler, path, ch11::k_light_v));
   const ch04::TriangleF& t = light.corners;
   const Vec3f guess = light.point - p; // which side of the surface the light is on
   const Vec3f side = dot(guess, frame.n) >= 0.0f ? frame.n : -frame.n;
@@ -293,8 +294,9 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
       sample_emitter_bsdf(s, features, path, p, frame, triangle, wo, bsdf, strategy, shadows);
   // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
   BsdfSample bounce;
-  if (!sample_f(bsdf, wo, number(path, k_lobe_pick), number(path, k_bsdf_u),
-                number(path, k_bsdf_v), s.compensation, bounce))
+  if (!sample_f(bsdf, wo, number(s.sampler, path, k_lobe_pick),
+                number(s.sampler, path, k_bsdf_u), number(s.sampler, path, k_bsdf_v),
+                s.compensation, bounce))
     return false;
   path.throughput = path.throughput * bounce.weight;
   // [listing:roulette_eta]
@@ -307,7 +309,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
     const float eta = wo.z > 0.0f ? bsdf.ior : 1.0f / bsdf.ior; // inside over outside
     path.eta_scale *= eta * eta;
   }
-  if (!survives_roulette(path, path.eta_scale)) return false;
+  if (!survives_roulette(s.sampler, path, path.eta_scale)) return false;
   // [/listing:roulette_eta]
   const Vec3f direction = frame.to_world(bounce.wi);
   const Vec3f side = bounce.wi.z >= 0.0f ? n : -n;
