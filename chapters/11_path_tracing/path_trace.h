@@ -96,9 +96,13 @@ struct ShadowRays { // 92 bytes
 };
 static_assert(sizeof(ShadowRays) == 92);
 
-// The path's number for `dimension` at its current vertex, from the scene's sampler.
+// The path's number for `dimension` at its current vertex, from the scene's sampler, and the
+// two of a pad (dimensions first and first + 1, first even).
 RT_HD inline float number(const Sampler& sampler, const PathState& path, unsigned dimension) {
   return sample_number(sampler, path.pixel, path.sample, unsigned(path.vertex), dimension);
+}
+RT_HD inline Vec2f number_pair(const Sampler& sampler, const PathState& path, unsigned first) {
+  return sample_pair(sampler, path.pixel, path.sample, unsigned(path.vertex), first);
 }
 
 // The camera ray through the point (jx, jy) away from the centre of pixel (x, y), jx and jy
@@ -125,8 +129,8 @@ RT_HD inline PathState start_path(const ch03::Camera<float>& camera, int x, int 
   PathState path{};
   path.pixel = unsigned(y * camera.pinhole.width + x);
   path.sample = sample;
-  path.ray = camera_ray_jittered(camera, x, y, number(sampler, path, 0) - 0.5f,
-                                 number(sampler, path, 1) - 0.5f);
+  const Vec2f jitter = number_pair(sampler, path, 0);
+  path.ray = camera_ray_jittered(camera, x, y, jitter.x - 0.5f, jitter.y - 0.5f);
   path.throughput = {1.0f, 1.0f, 1.0f};
   return path;
 }
@@ -212,9 +216,9 @@ RT_HD inline Vec3f facing_normal(const ch04::TriangleF& t, Vec3f side) {
 RT_HD inline void sample_emitter(const PathSceneView& s, const PathState& path, Vec3f origin,
                                  Vec3f n, Vec3f albedo, Strategy strategy,
                                  ShadowRays& shadows) {
-  const Sampler& r = s.sampler;
-  const LightPoint light = sample_light_point(
-      s, number(r, path, k_light_pick), number(r, path, k_light_u), number(r, path, k_light_v));
+  const Vec2f uv = number_pair(s.sampler, path, k_light_u);
+  const LightPoint light =
+      sample_light_point(s, number(s.sampler, path, k_light_pick), uv.x, uv.y);
   const ch04::TriangleF& t = light.corners;
   const Vec3f q = light.point;
   const Vec3f n_light = front_normal(t, origin - q); // emitters emit from their front
@@ -303,8 +307,8 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
     if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0)
       sample_emitter(s, path, origin, n, m.albedo, strategy, shadows);
   // The bounce: cosine-weighted, so the throughput is multiplied by the albedo alone.
-  const DirectionSample bounce =
-      sample_cosine(n, number(s.sampler, path, k_bsdf_u), number(s.sampler, path, k_bsdf_v));
+  const Vec2f uv = number_pair(s.sampler, path, k_bsdf_u);
+  const DirectionSample bounce = sample_cosine(n, uv.x, uv.y);
   path.throughput = path.throughput * m.albedo;
   if (!survives_roulette(s.sampler, path)) return false;
   path.ray = {origin, bounce.direction};

@@ -210,10 +210,9 @@ RT_HD void sample_emitter_bsdf(const MaterialSceneView& s, F features, const Pat
                                Vec3f p, const Frame& frame, const ch04::TriangleF& triangle,
                                Vec3f wo, const Bsdf& bsdf, Strategy strategy,
                                ShadowRays& shadows) {
-  const ch11::LightPoint light =
-      ch11::sample_light_point(s, ch11::number(s.sampler, path, ch11::k_light_pick),
-                               ch11::number(s.sampler, path, ch11::k_light_u),
-                               ch11::number(s.sampler, path, ch11::k_light_v));
+  const Vec2f uv = ch11::number_pair(s.sampler, path, ch11::k_light_u);
+  const ch11::LightPoint light = ch11::sample_light_point(
+      s, ch11::number(s.sampler, path, ch11::k_light_pick), uv.x, uv.y);
   const ch04::TriangleF& t = light.corners;
   const Vec3f guess = light.point - p; // which side of the surface the light is on
   const Vec3f side = dot(guess, frame.n) >= 0.0f ? frame.n : -frame.n;
@@ -294,9 +293,9 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
       sample_emitter_bsdf(s, features, path, p, frame, triangle, wo, bsdf, strategy, shadows);
   // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
   BsdfSample bounce;
-  if (!sample_f(bsdf, wo, number(s.sampler, path, k_lobe_pick),
-                number(s.sampler, path, k_bsdf_u), number(s.sampler, path, k_bsdf_v),
-                s.compensation, bounce))
+  const Vec2f uv = number_pair(s.sampler, path, k_bsdf_u);
+  if (!sample_f(bsdf, wo, number(s.sampler, path, k_lobe_pick), uv.x, uv.y, s.compensation,
+                bounce))
     return false;
   path.throughput = path.throughput * bounce.weight;
   // [listing:roulette_eta]

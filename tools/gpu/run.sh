@@ -6,7 +6,7 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 bench12 sass profile
+#   tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 samplers bench12 sass profile
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
@@ -14,7 +14,9 @@
 # builders on the benchmark set and its moving scene, rebuilt against refitted, `bench11` chapter
 # 11's kernels at 1920x1080 and its convergence report, `bench12` chapter 12's material room at
 # 1920x1080 (its kernels, chapter 11's tracer on the same geometry, the texture filters and
-# reads) and its convergence report; `window11` opens chapter 11 in the
+# reads) and its convergence report; `samplers` chapter 11's samplers (error against run time by
+# sampler on the room, Sponza and the conference room; each sampler's time per sample at
+# 1920x1080) and chapter 12's material room by sampler; `window11` opens chapter 11 in the
 # window at 1920x1080 on Sponza and the conference room (its frame rate), and the moving scenes
 # of chapters 10 and 11. `sass` counts the
 # load instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
@@ -30,7 +32,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 bench12 sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 samplers bench12 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -290,6 +292,38 @@ if wanted bench11 && [ -x build/native/bin/ch11_path_tracing ]; then
         --scene "$models/sponza-dabrovic.obj.gz" --sun 0.3,1,0.2 --sky 0.5 --width 1920 \
         --height 1080 --image-only --spp 1 --variant $variant --output "$logdir/ch11_$variant.png"
     done
+  fi
+fi
+# Chapter 11's samplers: error against run time by sampler (each point a fresh image of that
+# many samples) on the three scenes at 640x360 against a 16384-sample reference, and each
+# sampler's kernels timed at 1920x1080 (the headless report, 50 frames); chapter 12's material
+# room by sampler too.
+if wanted samplers && [ -x build/native/bin/ch11_path_tracing ]; then
+  ch11=build/native/bin/ch11_path_tracing
+  for scene in room sponza-dabrovic:0.3,1,0.2 conference:0.2,1,0.3; do
+    name=${scene%%:*}
+    args=()
+    if [ "$name" != room ]; then
+      [ -f "$models/$name.obj.gz" ] || continue
+      args=(--scene "$models/$name.obj.gz" --sun "${scene#*:}" --sky 0.5)
+    fi
+    step "samplers_ch11_$name" "$ch11" --backend gpu --headless --convergence --samplers \
+      "${args[@]}" --width 640 --height 360 --spp 256 --reference-spp 16384 \
+      --json "$logdir/samplers_ch11_$name.json"
+    grep -h "sampler " "$logdir/samplers_ch11_$name.log"
+    for sampler in independent stratified sobol zsobol; do
+      step "sampler_time_ch11_${name}_$sampler" "$ch11" --backend gpu --headless "${args[@]}" \
+        --sampler $sampler --width 1920 --height 1080 --frames 50 --spp 64 \
+        --json "$logdir/sampler_time_ch11_${name}_$sampler.json" \
+        --output "$logdir/ch11_${name}_$sampler.png"
+      grep -h "persistent\|megakernel\|wavefront" "$logdir/sampler_time_ch11_${name}_$sampler.log"
+    done
+  done
+  if [ -x build/native/bin/ch12_materials ]; then
+    step samplers_ch12_room build/native/bin/ch12_materials --backend gpu --headless \
+      --convergence --samplers --width 320 --height 240 --spp 256 --reference-spp 16384 \
+      --json "$logdir/samplers_ch12_room.json"
+    grep -h "sampler " "$logdir/samplers_ch12_room.log"
   fi
 fi
 # Chapter 08's kernels as the GPU runs them: load instructions per kernel, and cache hit rates.
