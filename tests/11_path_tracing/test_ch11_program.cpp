@@ -395,3 +395,95 @@ TEST_CASE("program: --moving renders frames of chapter 10's scene, its tree buil
   CHECK_THAT(run.output, contains("over 3 frames; 0 NaN/Inf samples"));
   CHECK(fs::file_size(image) > 100);
 }
+
+TEST_CASE("program: --sampler chooses where the paths' numbers come from", "[ch11][samplers]") {
+  const fs::path folder = rt::testing::temp_folder("rt_ch11");
+  // The image, with every kernel's sums compared: the sampler's numbers are the same in each.
+  const ProgramRun run =
+      run_program("--sampler sobol --width 16 --height 12 --spp 4 --frames 1 -o " +
+                  (folder / "sobol.png").string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("megakernel, mis, sobol sampler (specialised)"));
+  CHECK_THAT(run.output, contains("wavefront, mis, sobol sampler (specialised)"));
+  std::size_t agreeing = 0; // the first row and the three compared with it
+  for (std::size_t at = run.output.find(" 0 px differ from it"); at != std::string::npos;
+       at = run.output.find(" 0 px differ from it", at + 1))
+    ++agreeing;
+  CHECK(agreeing == 4);
+  CHECK(fs::file_size(folder / "sobol.png") > 100);
+  // The radiance: the independent sampler is the default, the others draw other images.
+  const auto radiance = [&](const std::string& sampler) {
+    const fs::path file = folder / ("sampler_" + sampler + ".pfm");
+    const ProgramRun r =
+        run_program((sampler.empty() ? "" : "--sampler " + sampler) +
+                    " --width 16 --height 12 --spp 4 --image-only --output " + file.string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    return read_pfm(file).rgb;
+  };
+  const std::vector<rt::Vec3f> plain = radiance("");
+  CHECK(radiance("independent") == plain);
+  for (const char* sampler : {"stratified", "sobol", "zsobol"}) {
+    CAPTURE(sampler);
+    CHECK(radiance(sampler) != plain);
+  }
+}
+
+TEST_CASE("program: --sampler and --samplers refuse what they cannot do", "[ch11][samplers]") {
+  const rt::testing::RefusedInput cases[] = {
+      {"--sampler bogus", 2, "unknown sampler 'bogus'"},
+      {"--samplers", 2, "--samplers goes with --convergence"},
+      {"--samplers --spp 4", 2, "--samplers goes with --convergence"},
+      {"--convergence --sampler sobol", 2, "not with --sampler"},
+      {"--convergence --samplers --sampler zsobol", 2, "not with --sampler"},
+  };
+  rt::testing::check_refused(run_program, cases);
+}
+
+TEST_CASE("program: --convergence --samplers measures every sampler against one reference",
+          "[ch11][samplers]") {
+  const fs::path folder = rt::testing::temp_folder("rt_ch11");
+  const std::string json = (folder / "samplers.json").string();
+  const ProgramRun run = run_program("--convergence --samplers --width 24 --height 16 --spp 8 "
+                                     "--reference-spp 64 --json " +
+                                     json);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  std::ifstream in(json);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  // Rows "persistent, mis, 4 spp" (the independent sampler) and "persistent, mis, sobol
+  // sampler, 4 spp": the variant without its count.
+  std::map<std::string, std::map<int, double>> rmse; // variant -> samples -> RMSE
+  for (const auto& row : report.at("rows")) {
+    const auto& metrics = row.at("metrics");
+    const std::string variant = row.at("variant").get<std::string>();
+    const int samples = static_cast<int>(metrics.at("samples").get<double>());
+    rmse[variant.substr(0, variant.rfind(','))][samples] = metrics.at("rmse").get<double>();
+    CHECK(metrics.at("non_finite").get<double>() == 0.0);
+    CHECK(metrics.at("error_lowpass").get<double>() >= 0.0);
+  }
+  REQUIRE(rmse.size() == 4);
+  for (const char* variant :
+       {"persistent, mis", "persistent, mis, stratified sampler",
+        "persistent, mis, sobol sampler", "persistent, mis, zsobol sampler"}) {
+    CAPTURE(variant);
+    REQUIRE(rmse.count(variant) == 1);
+    const auto& errors = rmse.at(variant);
+    REQUIRE(errors.size() == 4); // 1, 2, 4, 8
+    // 1 / sqrt(8) = 0.35 expected of an independent sampler, less of the others; a wide
+    // margin for the noise of one small image. (The relative MSE is noisier still: a single
+    // bright sample in a dark pixel can lift it.)
+    CHECK(errors.at(8) < 0.6 * errors.at(1));
+  }
+  const auto& context = report.at("context");
+  for (const char* sampler : {"independent", "stratified", "sobol", "zsobol"}) {
+    CAPTURE(sampler);
+    REQUIRE(context.contains(std::string("sampler ") + sampler));
+    const std::string line = context.at(std::string("sampler ") + sampler).get<std::string>();
+    CHECK_THAT(line, contains("MSE slope -"));
+    CHECK_THAT(line, contains("at 8 spp"));
+  }
+  CHECK_THAT(context.at("sampler independent").get<std::string>(),
+             contains("MSE 1.000x the independent sampler's"));
+}

@@ -158,3 +158,111 @@ TEST_CASE("the Cornell room's MTL: Kd as albedo, Ke as emission", "[ch11]") {
     red = red || (m.albedo.x == 0.65f && m.albedo.y == 0.05f);
   CHECK(red);
 }
+
+// ---- the same answers with every sampler (samplers.h)
+// ----------------------------------------- Each sampler's numbers are uniform, so every
+// estimator stays unbiased; the pixels' means stay independent of one another except zsobol's,
+// whose neighbours offset each other's error: the standard error computed as if they were
+// independent is then too large, which only makes the test more lenient for it.
+
+namespace {
+
+RenderSettings with_sampler(SamplerKind sampler, int samples,
+                            Strategy strategy = Strategy::mis) {
+  RenderSettings settings{PathVariant::megakernel, KernelKind::specialised, strategy};
+  settings.sampler = sampler;
+  settings.sampler_samples = samples;
+  return settings;
+}
+
+} // namespace
+
+TEST_CASE("white furnace with every sampler: Le / (1 - a) within 3 standard errors",
+          "[ch11][samplers]") {
+  const Extent extent{24, 16};
+  const int samples = 32;
+  for (const float albedo : {0.5f, 0.8f}) {
+    const PathScene furnace = make_furnace(2, albedo, 1.0f);
+    const double expected = 1.0 / (1.0 - albedo);
+    for (const SamplerKind sampler : k_samplers) {
+      CAPTURE(albedo, to_string(sampler));
+      unsigned long long non_finite = 1;
+      const MeanAndError stats =
+          pixel_statistics(render_mean(furnace, Backend::cpu, furnace_camera(), extent, samples,
+                                       with_sampler(sampler, samples), &non_finite));
+      CAPTURE(stats.mean, stats.standard_error, expected);
+      CHECK(non_finite == 0);
+      CHECK(stats.standard_error > 0.0);
+      CHECK(std::abs(stats.mean - expected) < 3.0 * stats.standard_error);
+    }
+  }
+}
+
+TEST_CASE("a disc and a sphere over a floor with every sampler: the exact irradiance within 3 "
+          "standard errors",
+          "[ch11][samplers]") {
+  const int samples = 32;
+  CameraSpec camera; // between the lamp and the floor, looking straight down at a small patch
+  camera.eye = {0.0, 0.5, 0.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.up = {0.0, 0.0, -1.0};
+  camera.fov_degrees = 2.0;
+  // The disc: albedo / pi * pi Le sin^2 theta.
+  const float radius = 0.5f, height = 1.0f, emission = 2.0f, albedo = 0.5f;
+  const PathScene disc = make_disc_over_floor(radius, height, emission, albedo, 8.0f, 256);
+  const double sin2 = radius * radius / double(radius * radius + height * height);
+  const double disc_expected = albedo / k_pi * (k_pi * emission * sin2);
+  // The sphere: albedo / pi * pi Le (R / d)^2.
+  const float distance = 2.0f, sphere_emission = 3.0f, floor_albedo = 0.7f;
+  PathScene sphere = make_disc_over_floor(radius, 1.0f, 0.0f, floor_albedo, 40.0f, 8);
+  sphere.mesh.triangles.resize(2);
+  sphere.material.resize(2);
+  ch04::append_mesh(sphere.mesh, ch04::make_icosphere(4, {0.0, distance, 0.0}, radius));
+  sphere.materials[1].emission = {sphere_emission, sphere_emission, sphere_emission};
+  sphere.material.resize(sphere.mesh.triangles.size(), 1);
+  sphere.lights = build_light_table(sphere);
+  const double ratio = double(radius) / distance;
+  const double sphere_expected = floor_albedo / k_pi * (k_pi * sphere_emission * ratio * ratio);
+  for (const SamplerKind sampler : k_samplers)
+    for (const Strategy strategy : {Strategy::mis, Strategy::light, Strategy::bsdf}) {
+      CAPTURE(to_string(sampler), to_string(strategy));
+      const RenderSettings settings = with_sampler(sampler, samples, strategy);
+      const MeanAndError lit_by_disc = pixel_statistics(
+          render_mean(disc, Backend::cpu, camera, {16, 16}, samples, settings));
+      CAPTURE(lit_by_disc.mean, lit_by_disc.standard_error, disc_expected);
+      CHECK(std::abs(lit_by_disc.mean - disc_expected) < 3.0 * lit_by_disc.standard_error);
+      CHECK(lit_by_disc.standard_error < 0.05 * disc_expected);
+      const MeanAndError lit_by_sphere = pixel_statistics(
+          render_mean(sphere, Backend::cpu, camera, {16, 16}, samples, settings));
+      CAPTURE(lit_by_sphere.mean, lit_by_sphere.standard_error, sphere_expected);
+      CHECK(std::abs(lit_by_sphere.mean - sphere_expected) <
+            3.0 * lit_by_sphere.standard_error);
+      CHECK(lit_by_sphere.standard_error < 0.1 * sphere_expected);
+    }
+}
+
+TEST_CASE("a sun and a sky over a floor with every sampler: every sample exact",
+          "[ch11][samplers]") {
+  PathScene scene = make_disc_over_floor(0.5f, 1.0f, 0.0f, 0.6f, 100.0f, 8);
+  scene.mesh.triangles.resize(2); // the floor alone
+  scene.material.resize(2);
+  scene.lights = build_light_table(scene);
+  scene.environment.sun_direction = normalize(Vec3f{0.0f, 1.0f, 1.0f});
+  scene.environment.sun_irradiance = {2.0f, 2.0f, 2.0f};
+  scene.environment.sky = {0.25f, 0.25f, 0.25f};
+  CameraSpec camera;
+  camera.eye = {3.0, 0.4, 0.0};
+  camera.target = {3.0, 0.0, 0.0};
+  camera.up = {0.0, 0.0, -1.0};
+  camera.fov_degrees = 5.0;
+  const double expected = 0.6 / k_pi * 2.0 * std::sqrt(0.5) + 0.6 * 0.25;
+  for (const SamplerKind sampler : k_samplers) {
+    CAPTURE(to_string(sampler));
+    int wrong = 0;
+    for (const Vec3f& p :
+         render_mean(scene, Backend::cpu, camera, {8, 8}, 4, with_sampler(sampler, 4)))
+      wrong += !(std::abs(p.x - expected) <= 1e-5 * expected &&
+                 std::abs(p.y - expected) <= 1e-5 * expected);
+    CHECK(wrong == 0);
+  }
+}

@@ -200,3 +200,48 @@ TEST_CASE("a moved scene renders as a renderer made for it: the tree built again
   too_few.pop_back();
   CHECK_THROWS_AS(moved.move_vertices(too_few), InputError);
 }
+
+TEST_CASE("every sampler: megakernel, persistent threads and wavefront give the same sums, "
+          "progressively as at once, and each sampler an image of its own",
+          "[ch11][samplers]") {
+  const Extent extent{16, 12};
+  const int samples = 4;
+  struct Case {
+    const char* name;
+    PathScene scene;
+    CameraSpec camera;
+  };
+  const Case cases[] = {{"the Cornell room", load_path_scene(k_room), cornell_camera()},
+                        {"the moving scene under the sky and sun", lit_moving_scene(0.0, 8),
+                         ch10::moving_scene_camera()}};
+  for (const Case& c : cases) {
+    std::vector<float4> independent;
+    for (const SamplerKind sampler : k_samplers) {
+      CAPTURE(c.name, to_string(sampler));
+      RenderSettings settings{PathVariant::megakernel, KernelKind::specialised, Strategy::mis};
+      settings.sampler = sampler;
+      settings.sampler_samples = samples;
+      const auto mega = render_sums(c.scene, Backend::cpu, c.camera, extent, samples, settings);
+      settings.variant = PathVariant::persistent;
+      CHECK(same_sums(mega,
+                      render_sums(c.scene, Backend::cpu, c.camera, extent, samples, settings)));
+      settings.variant = PathVariant::wavefront;
+      CHECK(same_sums(mega,
+                      render_sums(c.scene, Backend::cpu, c.camera, extent, samples, settings)));
+      // One sample at a time: the numbers depend on the sample's index, not on the pass.
+      PathRenderer renderer(c.scene, Backend::cpu);
+      renderer.restart(c.camera, extent);
+      settings.variant = PathVariant::megakernel;
+      for (int i = 0; i < samples; ++i) renderer.add_samples(settings, 1);
+      CHECK(same_sums(mega, renderer.sums()));
+      CHECK(renderer.non_finite() == 0);
+      // The setting reaches the kernels: each sampler draws other paths than the hash.
+      if (sampler == SamplerKind::independent) {
+        independent = mega; // the hash, whatever the count: the default settings' image
+        CHECK(same_sums(mega, render_sums(c.scene, Backend::cpu, c.camera, extent, samples)));
+      } else {
+        CHECK(!same_sums(mega, independent));
+      }
+    }
+  }
+}

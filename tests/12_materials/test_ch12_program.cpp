@@ -121,3 +121,26 @@ TEST_CASE("program: bad input is refused with one line", "[ch12]") {
   };
   rt::testing::check_refused(run_program, cases);
 }
+
+TEST_CASE("program: --sampler renders the material room, and --sampler and --samplers refuse "
+          "what they cannot do",
+          "[ch12][samplers]") {
+  const fs::path folder = rt::testing::temp_folder("rt_ch12");
+  const auto radiance = [&](const std::string& sampler) {
+    const fs::path file = folder / ("sampler_" + sampler + ".pfm");
+    const ProgramRun run =
+        run_program("--sampler " + sampler +
+                    " --width 20 --height 12 --spp 2 --image-only --output " + file.string());
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    return rt::testing::read_pfm(file).rgb;
+  };
+  const std::vector<rt::Vec3f> independent = radiance("independent");
+  CHECK(radiance("zsobol") != independent); // the flag reaches the kernels
+  const rt::testing::RefusedInput cases[] = {
+      {"--sampler bogus", 2, "unknown sampler 'bogus'"},
+      {"--samplers", 2, "--samplers goes with --convergence"},
+      {"--convergence --sampler sobol", 2, "not with --sampler"},
+  };
+  rt::testing::check_refused(run_program, cases);
+}
