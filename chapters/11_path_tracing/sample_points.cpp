@@ -8,6 +8,7 @@
 //   ch11_sample_points [--sampler NAME] [--count N] [--pixel P] [--vertex V] [--dimension D]
 //                      [--width W] [--height H] [--image [--order FILE.csv]]
 //                      [--output FILE.csv]
+#include <bit>
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
@@ -63,18 +64,30 @@ void check(const Options& o, const CLI::App& app) {
       throw UsageError("output '" + *path + "': expected a .csv file name");
 }
 
-// The zsobol sampler's index of (pixel, sample 0) in the image-wide Sobol' sequence. Its
-// seed is the one zsobol_number gives zsobol_index; the point that index makes is compared
-// with the sampler's own, bit for bit, so this file cannot quietly draw another order.
+// The zsobol sampler's index of (pixel, sample 0) in the image-wide Sobol' sequence, by
+// zsobol_index with the seed zsobol_pair gives it for block 0.
 unsigned zsobol_index_of(const Sampler& s, unsigned pixel, unsigned pad) {
-  const unsigned seed = hash_words(pad, 0u, 0x5bd1e995u); // block 0: sample 0
-  const unsigned index = zsobol_index(s, pixel, 0u, seed);
-  const float u = unit_float(owen_scramble(sobol_first(index), hash_words(seed, 1u)));
-  const float v = unit_float(owen_scramble(sobol_second(index), hash_words(seed, 2u)));
-  if (u != zsobol_number(s, pixel, 0u, pad, 0u) || v != zsobol_number(s, pixel, 0u, pad, 1u))
-    throw std::logic_error("the zsobol order here no longer gives the sampler's points: "
-                           "zsobol_number's seed changed in samplers.h");
-  return index;
+  return zsobol_index(s, pixel, 0u, hash_words(pad, 0u, 0x5bd1e995u));
+}
+
+// How many leading binary digits two 32-bit fractions share (32 when they are equal).
+int shared_digits(unsigned a, unsigned b) { return a == b ? 32 : std::countl_zero(a ^ b); }
+
+// Holds the order to the sampler's own points, so that this file cannot quietly draw another
+// order. Owen's scrambling, whatever its seeds, keeps how many leading digits two points
+// share: so the points that pixels p and q got share as many digits (of the 24 a float keeps)
+// as the bare Sobol' points at their indices do, in both coordinates. A wrong index fails it.
+void check_order(const Sampler& s, unsigned pad, unsigned p, unsigned q) {
+  const unsigned i = zsobol_index_of(s, p, pad), j = zsobol_index_of(s, q, pad);
+  const Vec2f a = zsobol_pair(s, p, 0u, pad), b = zsobol_pair(s, q, 0u, pad);
+  const auto bits = [](float x) { return unsigned(x * 16777216.0f) << 8; };
+  const auto digits = [](int n) { return n < 24 ? n : 24; };
+  if (digits(shared_digits(bits(a.x), bits(b.x))) !=
+          digits(shared_digits(sobol_first(i), sobol_first(j))) ||
+      digits(shared_digits(bits(a.y), bits(b.y))) !=
+          digits(shared_digits(sobol_second(i), sobol_second(j))))
+    throw std::logic_error("the zsobol order here no longer matches the sampler's points: "
+                           "zsobol_pair's seed changed in samplers.h");
 }
 
 int run(const Options& o, const CLI::App& app) {
@@ -113,6 +126,8 @@ int run(const Options& o, const CLI::App& app) {
       std::fprintf(file, "pixel,x,y,morton,index\n");
       for (unsigned pixel = 0; pixel < unsigned(extent.pixel_count()); ++pixel) {
         const unsigned x = pixel % sampler.width, y = pixel / sampler.width;
+        check_order(sampler, pad, pixel, 0u);
+        check_order(sampler, pad, pixel, (pixel + 1u) % unsigned(extent.pixel_count()));
         std::fprintf(file, "%u,%u,%u,%u,%u\n", pixel, x, y, morton_code(x, y),
                      zsobol_index_of(sampler, pixel, pad));
       }
