@@ -13,7 +13,7 @@ void add_sampler_options(CLI::App& app, RenderSettings& settings, bool& compare_
          "--sampler", [&](const std::string& t) { settings.sampler = parse_sampler(t); },
          "Where the paths' numbers come from: independent, stratified, sobol or zsobol (the "
          "image and the window)")
-      ->default_str("independent");
+      ->default_str(to_string(settings.sampler));
   app.add_flag("--samplers", compare_samplers,
                "With --convergence: every sampler's error against run time, not the "
                "strategies'");

@@ -115,6 +115,11 @@ RT_HD inline unsigned hash_words(unsigned a, unsigned b, unsigned c) {
 // modulo a power of two), applied again while the result falls outside 0 .. n - 1. Applying a
 // bijection of a finite set again walks round its cycle, which must come back into 0 .. n - 1
 // (to i itself at worst), so the loop ends; it is expected to run fewer than two times.
+// These few steps do not reach every permutation with equal odds, and when n is not a power
+// of two the walk favours some places: permute_index(0, 3, seed) would be 1 half the time.
+// So the result is finally turned round the circle 0 .. n - 1 by a random offset of its own:
+// still a permutation, and now every i goes to every place with the same odds 1 / n, which is
+// all that keeps a stratified sample uniform (an unbiased estimate) when a block is cut short.
 RT_HD inline unsigned permute_index(unsigned i, unsigned n, unsigned seed) {
   unsigned mask = n - 1;
   mask |= mask >> 1;
@@ -131,7 +136,11 @@ RT_HD inline unsigned permute_index(unsigned i, unsigned n, unsigned seed) {
     i = (i + (seed >> 11)) & mask;
     i ^= i >> 2;
   } while (i >= n);
-  return i;
+  // An offset in 0 .. n - 1: a 32-bit hash scaled to n, every value within 2^-32 of 1 / n.
+  const auto offset =
+      unsigned((static_cast<unsigned long long>(pcg_hash(seed ^ 0x68e31da4u)) * n) >> 32);
+  const unsigned turned = i + offset;
+  return turned >= n ? turned - n : turned;
 }
 // [/listing:permute_index]
 
@@ -167,6 +176,15 @@ RT_HD inline float stratified_number(const Sampler& s, unsigned pixel, unsigned 
 
 // ---- Sobol', padded -------------------------------------------------------------------------
 
+// The Sobol' point at `index` with each coordinate Owen scrambled. Its two seeds are made
+// from one random `seed` by two different multiply-adds (bijections of 32-bit words): as
+// random as the seed, distinct from it and from each other, for a multiply where a hash would
+// cost six.
+RT_HD inline Vec2f scrambled_sobol_pair(unsigned index, unsigned seed) {
+  return {unit_float(owen_scramble(sobol_first(index), seed * 0x9e3779b9u + 0x7f4a7c15u)),
+          unit_float(owen_scramble(sobol_second(index), seed * 0x85ebca6bu + 0xc2b2ae35u))};
+}
+
 // [listing:sobol_number]
 // Burley's shuffled and scrambled Sobol': per pixel and pad, the sample index is itself Owen
 // scrambled (a "shuffle": 2^m consecutive samples from a multiple of 2^m become the Sobol'
@@ -175,9 +193,8 @@ RT_HD inline float stratified_number(const Sampler& s, unsigned pixel, unsigned 
 // independent. Two pixels, two pads, draw unrelated nets.
 RT_HD inline Vec2f sobol_pair(unsigned pixel, unsigned sample, unsigned pad) {
   const unsigned seed = hash_words(pixel, pad);
-  const unsigned index = owen_scramble(sample, pcg_hash(seed));
-  return {unit_float(owen_scramble(sobol_first(index), hash_words(seed, 1))),
-          unit_float(owen_scramble(sobol_second(index), hash_words(seed, 2)))};
+  const unsigned index = owen_scramble(sample, seed);
+  return scrambled_sobol_pair(index, seed);
 }
 RT_HD inline float sobol_number(unsigned pixel, unsigned sample, unsigned pad, unsigned axis) {
   const Vec2f p = sobol_pair(pixel, sample, pad);
@@ -262,9 +279,7 @@ RT_HD inline Vec2f zsobol_pair(const Sampler& s, unsigned pixel, unsigned sample
                                unsigned pad) {
   const unsigned block = sample >> s.log2_block;
   const unsigned seed = hash_words(pad, block, 0x5bd1e995u);
-  const unsigned index = zsobol_index(s, pixel, sample, seed);
-  return {unit_float(owen_scramble(sobol_first(index), hash_words(seed, 1))),
-          unit_float(owen_scramble(sobol_second(index), hash_words(seed, 2)))};
+  return scrambled_sobol_pair(zsobol_index(s, pixel, sample, seed), seed);
 }
 RT_HD inline float zsobol_number(const Sampler& s, unsigned pixel, unsigned sample,
                                  unsigned pad, unsigned axis) {
