@@ -61,10 +61,10 @@ TEST_CASE("program: four kernels, the same sums, and the image", "[ch11]") {
       run_program("--width 32 --height 24 --spp 4 --frames 1 --output " + image);
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
-  CHECK_THAT(run.output, contains("megakernel, mis (specialised)"));
-  CHECK_THAT(run.output, contains("megakernel, mis, all features"));
-  CHECK_THAT(run.output, contains("persistent, mis (specialised)"));
-  CHECK_THAT(run.output, contains("wavefront, mis (specialised)"));
+  CHECK_THAT(run.output, contains("megakernel, mis, sobol sampler (specialised)"));
+  CHECK_THAT(run.output, contains("megakernel, mis, all features, sobol sampler"));
+  CHECK_THAT(run.output, contains("persistent, mis, sobol sampler (specialised)"));
+  CHECK_THAT(run.output, contains("wavefront, mis, sobol sampler (specialised)"));
   CHECK_THAT(run.output, contains("features: emitters"));
   CHECK_THAT(run.output, !contains("NaN/Inf samples dropped"));
   CHECK_THAT(run.output, !contains("warning"));

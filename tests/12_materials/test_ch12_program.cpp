@@ -36,8 +36,8 @@ TEST_CASE("program: the material room, its kernels, chapter 11's tracer and the 
                                      image + " --json " + json);
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
-  CHECK_THAT(run.output, contains("megakernel, mis (specialised)"));
-  CHECK_THAT(run.output, contains("wavefront, mis (specialised)"));
+  CHECK_THAT(run.output, contains("megakernel, mis, sobol sampler (specialised)"));
+  CHECK_THAT(run.output, contains("wavefront, mis, sobol sampler (specialised)"));
   CHECK_THAT(run.output, contains(" 0 px differ from it"));
   CHECK_THAT(run.output, contains("emitters, textures, specular"));
   CHECK_THAT(run.output, contains("chapter 11's tracer, same geometry"));
