@@ -133,6 +133,30 @@ convergence_h200 room "the Cornell room"
 convergence_h200 sponza "Sponza in sunlight"
 convergence_h200 conference "the conference room"
 
+# Chapter 11b: the samplers' own points, written by ch11_sample_points (16, 64 and 256 samples
+# of one pixel by each sampler; zsobol's first sample of every pixel of an 8x8 image, with its
+# order); the room at 256x256 and 4 samples per pixel by each sampler, as a picture and as
+# radiance, and a reference of 2 048 samples (a few minutes on 2 cores). The script draws the
+# points, the nets, the discrepancy, Owen's tree, the Morton order, the error images and their
+# spectra, and the error against samples from book/data/11b_samplers_cpu_room.json, a measured
+# report kept as data (its run takes minutes: ch11_path_tracing --backend cpu --headless
+# --convergence --samplers --width 160 --height 120 --spp 256 --reference-spp 8192 --json ...).
+for sampler in independent stratified sobol zsobol; do
+  for count in 16 64 256; do
+    "$bin/ch11_sample_points" --sampler "$sampler" --count "$count" \
+      --output "$scratch/11b_points_${sampler}_$count.csv" >/dev/null
+  done
+  for output in "$scratch/11b_room_$sampler.pfm" "$scratch/11b_room_$sampler.png"; do
+    "$bin/ch11_path_tracing" --headless --backend cpu --width 256 --height 256 --spp 4 \
+      --sampler "$sampler" --image-only --output "$output" >/dev/null
+  done
+done
+"$bin/ch11_sample_points" --sampler zsobol --count 1 --width 8 --height 8 --image \
+  --order "$scratch/11b_zsobol_order.csv" --output "$scratch/11b_zsobol_image.csv" >/dev/null
+"$bin/ch11_path_tracing" --headless --backend cpu --width 256 --height 256 --spp 2048 \
+  --sampler sobol --image-only --output "$scratch/11b_room_reference.pfm" >/dev/null
+python3 tools/diagrams/ch11b.py "$img" "$scratch" book/data/11b_samplers_cpu_room.json
+
 # Chapter 12: the material room (its glTF camera) at 320x240 and 128 samples per pixel; the
 # roughness series of gold, glass and a white metal, the metal also without energy
 # compensation; the chi-square maps of three samplers (observed | expected | a wrong twin);
