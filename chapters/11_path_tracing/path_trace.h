@@ -105,6 +105,38 @@ RT_HD inline Vec2f number_pair(const Sampler& sampler, const PathState& path, un
   return sample_pair(sampler, path.pixel, path.sample, unsigned(path.vertex), first);
 }
 
+// [listing:vertex_numbers]
+// The numbers a surface vertex draws, pad by pad (samplers.h): the bounce's pair, Russian
+// roulette's and the light pick's, the point on the light, and a spare pair a later chapter
+// uses. They are drawn together, in a loop the GPU's compiler is told not to unroll, so that
+// the code of every sampler appears once in the kernel rather than once for each place a
+// number is used: with four samplers behind one switch, the copies made the kernel large
+// enough to slow the GPU, the independent sampler's paths too. The numbers are the same as
+// one at a time, whatever order they are drawn in.
+struct VertexNumbers {
+  Vec2f bsdf;       // k_bsdf_u, k_bsdf_v
+  float roulette;   // k_roulette
+  float light_pick; // k_light_pick
+  Vec2f light;      // k_light_u, k_light_v
+  Vec2f spare;      // dimensions 6 and 7
+};
+RT_HD inline VertexNumbers vertex_numbers(const Sampler& sampler, const PathState& path,
+                                          unsigned pads) {
+  VertexNumbers u{};
+#if RT_ON_DEVICE
+#pragma unroll 1
+#endif
+  for (unsigned pad = 0; pad < pads; ++pad) {
+    const Vec2f p = number_pair(sampler, path, 2 * pad);
+    if (pad == 0) u.bsdf = p;
+    if (pad == 1) u.roulette = p.x, u.light_pick = p.y;
+    if (pad == 2) u.light = p;
+    if (pad == 3) u.spare = p;
+  }
+  return u;
+}
+// [/listing:vertex_numbers]
+
 // The camera ray through the point (jx, jy) away from the centre of pixel (x, y), jx and jy
 // in [-0.5, 0.5): chapter 03's camera formula with the pixel centre moved.
 RT_HD inline RayF camera_ray_jittered(const ch03::Camera<float>& camera, int x, int y, float jx,
@@ -213,12 +245,10 @@ RT_HD inline Vec3f facing_normal(const ch04::TriangleF& t, Vec3f side) {
 // f cos_p Le / pdf, with f = a / pi and pdf the density of q's direction per solid angle,
 // (lum(Le) / power) * d^2 / cos_q; under MIS it is weighted against the density with which
 // the cosine-weighted bounce would have found the same direction.
-RT_HD inline void sample_emitter(const PathSceneView& s, const PathState& path, Vec3f origin,
-                                 Vec3f n, Vec3f albedo, Strategy strategy,
-                                 ShadowRays& shadows) {
-  const Vec2f uv = number_pair(s.sampler, path, k_light_u);
-  const LightPoint light =
-      sample_light_point(s, number(s.sampler, path, k_light_pick), uv.x, uv.y);
+RT_HD inline void sample_emitter(const PathSceneView& s, const PathState& path,
+                                 const VertexNumbers& u, Vec3f origin, Vec3f n, Vec3f albedo,
+                                 Strategy strategy, ShadowRays& shadows) {
+  const LightPoint light = sample_light_point(s, u.light_pick, u.light.x, u.light.y);
   const ch04::TriangleF& t = light.corners;
   const Vec3f q = light.point;
   const Vec3f n_light = front_normal(t, origin - q); // emitters emit from their front
@@ -258,13 +288,12 @@ RT_HD inline float emitter_hit_weight(const PathSceneView& s, const PathState& p
 // k_roulette_from_vertex on, the path survives with the probability of its throughput's
 // largest channel times `scale` (1 here; a later chapter takes refraction's radiance scaling
 // out this way), capped, and carries 1 / survival; before, only a black throughput ends it.
-RT_HD inline bool survives_roulette(const Sampler& sampler, PathState& path,
-                                    float scale = 1.0f) {
+// `u` is the vertex's roulette number (VertexNumbers).
+RT_HD inline bool survives_roulette(PathState& path, float u, float scale = 1.0f) {
   if (path.vertex >= k_roulette_from_vertex) {
     const float survive =
         min_of(max_component(path.throughput) * scale, k_roulette_max_survival);
-    if (!(number(sampler, path, k_roulette) < survive))
-      return false; // also ends NaN throughputs
+    if (!(u < survive)) return false; // also ends NaN throughputs
     path.throughput = path.throughput / survive;
     return true;
   }
@@ -294,6 +323,7 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
                        emitter_hit_weight(s, path, strategy, m.emission, dot(n, d), hit.t);
   }
   const Vec3f origin = spawn_origin(p, n, triangle);
+  const VertexNumbers u = vertex_numbers(s.sampler, path, 3); // the spare pair not needed
   if constexpr (F::compiled(k_sun)) {
     const Environment& e = s.environment;
     const float cosine = dot(n, e.sun_direction);
@@ -305,12 +335,11 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
   }
   if constexpr (F::compiled(k_emitters))
     if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0)
-      sample_emitter(s, path, origin, n, m.albedo, strategy, shadows);
+      sample_emitter(s, path, u, origin, n, m.albedo, strategy, shadows);
   // The bounce: cosine-weighted, so the throughput is multiplied by the albedo alone.
-  const Vec2f uv = number_pair(s.sampler, path, k_bsdf_u);
-  const DirectionSample bounce = sample_cosine(n, uv.x, uv.y);
+  const DirectionSample bounce = sample_cosine(n, u.bsdf.x, u.bsdf.y);
   path.throughput = path.throughput * m.albedo;
-  if (!survives_roulette(s.sampler, path)) return false;
+  if (!survives_roulette(path, u.roulette)) return false;
   path.ray = {origin, bounce.direction};
   path.bsdf_pdf = bounce.pdf;
   return true;

@@ -207,12 +207,11 @@ RT_HD Vec3f emission_at(const MaterialSceneView& s, F features, int triangle,
 // The density is the light table's, by the emission factor; Le is what the point emits.
 template <class F>
 RT_HD void sample_emitter_bsdf(const MaterialSceneView& s, F features, const PathState& path,
-                               Vec3f p, const Frame& frame, const ch04::TriangleF& triangle,
-                               Vec3f wo, const Bsdf& bsdf, Strategy strategy,
-                               ShadowRays& shadows) {
-  const Vec2f uv = ch11::number_pair(s.sampler, path, ch11::k_light_u);
-  const ch11::LightPoint light = ch11::sample_light_point(
-      s, ch11::number(s.sampler, path, ch11::k_light_pick), uv.x, uv.y);
+                               const ch11::VertexNumbers& u, Vec3f p, const Frame& frame,
+                               const ch04::TriangleF& triangle, Vec3f wo, const Bsdf& bsdf,
+                               Strategy strategy, ShadowRays& shadows) {
+  const ch11::LightPoint light =
+      ch11::sample_light_point(s, u.light_pick, u.light.x, u.light.y);
   const ch04::TriangleF& t = light.corners;
   const Vec3f guess = light.point - p; // which side of the surface the light is on
   const Vec3f side = dot(guess, frame.n) >= 0.0f ? frame.n : -frame.n;
@@ -274,6 +273,9 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
   const Frame frame{n, ch07::duff_frame(n)};
   const Vec3f wo = frame.to_local(-d);
   const bool smooth_only = bsdf_is_delta_only(bsdf);
+  // The vertex's numbers (chapter 11's VertexNumbers); the spare pair's first is the lobe's.
+  const ch11::VertexNumbers u = ch11::vertex_numbers(s.sampler, path, 4);
+  static_assert(k_lobe_pick == 6, "the lobe pick is the spare pad's first number");
   if constexpr (F::compiled(k_sun)) {
     const Environment& e = s.environment;
     if (features.on(k_sun) && !smooth_only) {
@@ -290,13 +292,11 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
   if constexpr (F::compiled(k_emitters))
     if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0 &&
         !smooth_only)
-      sample_emitter_bsdf(s, features, path, p, frame, triangle, wo, bsdf, strategy, shadows);
+      sample_emitter_bsdf(s, features, path, u, p, frame, triangle, wo, bsdf, strategy,
+                          shadows);
   // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
   BsdfSample bounce;
-  const Vec2f uv = number_pair(s.sampler, path, k_bsdf_u);
-  if (!sample_f(bsdf, wo, number(s.sampler, path, k_lobe_pick), uv.x, uv.y, s.compensation,
-                bounce))
-    return false;
+  if (!sample_f(bsdf, wo, u.spare.x, u.bsdf.x, u.bsdf.y, s.compensation, bounce)) return false;
   path.throughput = path.throughput * bounce.weight;
   // [listing:roulette_eta]
   // Russian roulette as chapter 11's, on the throughput with the refractions' radiance scaling
@@ -308,7 +308,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
     const float eta = wo.z > 0.0f ? bsdf.ior : 1.0f / bsdf.ior; // inside over outside
     path.eta_scale *= eta * eta;
   }
-  if (!survives_roulette(s.sampler, path, path.eta_scale)) return false;
+  if (!survives_roulette(path, u.roulette, path.eta_scale)) return false;
   // [/listing:roulette_eta]
   const Vec3f direction = frame.to_world(bounce.wi);
   const Vec3f side = bounce.wi.z >= 0.0f ? n : -n;
