@@ -108,11 +108,13 @@ RT_HD inline Vec2f number_pair(const Sampler& sampler, const PathState& path, un
 // [listing:vertex_numbers]
 // The numbers a surface vertex draws, pad by pad (samplers.h): the bounce's pair, Russian
 // roulette's and the light pick's, the point on the light, and a spare pair a later chapter
-// uses. They are drawn together, in a loop the GPU's compiler is told not to unroll, so that
-// the code of every sampler appears once in the kernel rather than once for each place a
-// number is used: with four samplers behind one switch, the copies made the kernel large
-// enough to slow the GPU, the independent sampler's paths too. The numbers are the same as
-// one at a time, whatever order they are drawn in.
+// uses (`pads` of them, 3 or 4). They are drawn together, with one choice of sampler for the
+// vertex rather than one for each number: the short samplers (independent, sobol) in a loop
+// the compiler unrolls, the long ones (stratified, zsobol) in a loop the GPU's compiler is told
+// to keep rolled, so that their code appears once in the kernel rather than once for each
+// place a number is used; with four samplers behind a switch at every use, the copies made
+// the kernel large enough to slow the GPU. The numbers are the same as one at a time, whatever
+// order they are drawn in.
 struct VertexNumbers {
   Vec2f bsdf;       // k_bsdf_u, k_bsdf_v
   float roulette;   // k_roulette
@@ -120,18 +122,33 @@ struct VertexNumbers {
   Vec2f light;      // k_light_u, k_light_v
   Vec2f spare;      // dimensions 6 and 7
 };
+RT_HD inline void put_pad(VertexNumbers& u, unsigned pad, Vec2f p) {
+  if (pad == 0) u.bsdf = p;
+  if (pad == 1) u.roulette = p.x, u.light_pick = p.y;
+  if (pad == 2) u.light = p;
+  if (pad == 3) u.spare = p;
+}
 RT_HD inline VertexNumbers vertex_numbers(const Sampler& sampler, const PathState& path,
                                           unsigned pads) {
   VertexNumbers u{};
+  const unsigned vertex = unsigned(path.vertex), first_pad = vertex * k_pads_per_vertex;
+  if (sampler.kind == SamplerKind::independent) {
+    RT_UNROLL
+    for (unsigned pad = 0; pad < 4; ++pad)
+      if (pad < pads)
+        put_pad(u, pad,
+                {sample_number(path.pixel, path.sample, vertex, 2 * pad),
+                 sample_number(path.pixel, path.sample, vertex, 2 * pad + 1)});
+  } else if (sampler.kind == SamplerKind::sobol) {
+    RT_UNROLL
+    for (unsigned pad = 0; pad < 4; ++pad)
+      if (pad < pads) put_pad(u, pad, sobol_pair(path.pixel, path.sample, first_pad + pad));
+  } else {
 #if RT_ON_DEVICE
 #pragma unroll 1
 #endif
-  for (unsigned pad = 0; pad < pads; ++pad) {
-    const Vec2f p = number_pair(sampler, path, 2 * pad);
-    if (pad == 0) u.bsdf = p;
-    if (pad == 1) u.roulette = p.x, u.light_pick = p.y;
-    if (pad == 2) u.light = p;
-    if (pad == 3) u.spare = p;
+    for (unsigned pad = 0; pad < pads; ++pad)
+      put_pad(u, pad, number_pair(sampler, path, 2 * pad));
   }
   return u;
 }
