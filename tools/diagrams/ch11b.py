@@ -423,6 +423,42 @@ def convergence(out, report_path):
     save(fig, out / "11b_convergence.svg")
 
 
+def gpu_convergence(out, data=Path("book/data")):
+    """The three scenes on an H200 (tools/gpu/run.sh's samplers step): each sampler's MSE
+    against the independent sampler's at the same count, so that the gain reads directly."""
+    scenes = [("room", "Cornell room"), ("sponza-dabrovic", "Sponza, sun and sky"),
+              ("conference", "conference room, sun and sky")]
+    paths = [data / f"11b_samplers_h200_{name}.json" for name, _ in scenes]
+    if not all(p.exists() for p in paths):
+        return
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), sharey=True)
+    for ax, (name, title), path in zip(axes, scenes, paths):
+        report = json.loads(path.read_text())
+        series = {s: {} for s in SAMPLERS}
+        for row in report["rows"]:
+            m = row["metrics"]
+            series[sampler_of(row["variant"])][m["samples"]] = m["rmse"] ** 2
+        counts = sorted(series["independent"])
+        for sampler in SAMPLERS:
+            ratio = [series[sampler][n] / series["independent"][n] for n in counts]
+            ax.semilogx(counts, ratio, "o-", color=COLOURS[sampler], markersize=3.5,
+                        label=NAMES[sampler])
+        ax.set_xscale("log", base=2)
+        ax.set_title(f"{title} ({report['context'].get('resolution', '?')})", fontsize=10)
+        ax.set_xlabel("samples per pixel", fontsize=9)
+        ax.axhline(0.55, color="#999999", linestyle=":", linewidth=1)
+        ax.tick_params(labelsize=8)
+        ax.grid(True, which="major", color="#eeeeee")
+    axes[0].text(1.1, 0.57, "0.55", fontsize=8, color=GREY)
+    axes[0].set_ylabel("MSE against the independent sampler's", fontsize=9)
+    axes[0].legend(fontsize=8, frameon=False)
+    fig.suptitle("Chapter 11b on an NVIDIA H200: each sampler's MSE over the independent "
+                 "sampler's at the same samples per pixel (reference: 16 384 samples)",
+                 fontsize=10)
+    fig.subplots_adjust(wspace=0.08, top=0.85)
+    save(fig, out / "11b_convergence_h200.svg")
+
+
 # ------------------------------------------------------------------------------------------
 # (f) The room at 4 samples per pixel: its error, and the error's spectrum.
 
@@ -530,6 +566,7 @@ def main():
     owen_tree(out)
     morton(out, folder)
     convergence(out, report)
+    gpu_convergence(out)
     room(out, folder)
 
 
