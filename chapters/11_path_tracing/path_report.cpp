@@ -147,17 +147,33 @@ SamplesTaken add_image_samples(ProgressiveRenderer& renderer, const RenderSettin
   return {done, elapsed()};
 }
 
+namespace {
+
+// A report of error against run time with its context, and the float64 reference it measures
+// against.
+Report start_error_report(const std::string& title, Backend backend, int reference_samples) {
+  return start_report(title, "Mpaths/s",
+                      "float64 mean of " + std::to_string(reference_samples) + " spp (mis)",
+                      backend);
+}
+Reference add_reference(Report& report, ProgressiveRenderer& renderer, const std::string& scene,
+                        const CameraSpec& camera, Extent extent, int reference_samples) {
+  report.add_context("scene", scene);
+  report.add_context("resolution", to_string(extent));
+  Reference reference = render_reference(renderer, camera, extent, reference_samples);
+  report.add_context("reference seconds", format_fixed(reference.seconds, 1));
+  return reference;
+}
+
+} // namespace
+
 Report convergence_report(ProgressiveRenderer& renderer, const std::string& title,
                           const std::string& scene, const CameraSpec& camera, Extent extent,
                           int max_samples, int reference_samples) {
   const Backend backend = renderer.backend();
-  Report report = start_report(
-      title, "Mpaths/s", "float64 mean of " + std::to_string(reference_samples) + " spp (mis)",
-      backend);
-  report.add_context("scene", scene);
-  report.add_context("resolution", to_string(extent));
-  const Reference reference = render_reference(renderer, camera, extent, reference_samples);
-  report.add_context("reference seconds", format_fixed(reference.seconds, 1));
+  Report report = start_error_report(title, backend, reference_samples);
+  const Reference reference =
+      add_reference(report, renderer, scene, camera, extent, reference_samples);
   const RenderSettings variants[] = {
       {PathVariant::persistent, KernelKind::specialised, Strategy::bsdf},
       {PathVariant::persistent, KernelKind::specialised, Strategy::light},
@@ -175,13 +191,9 @@ Report sampler_convergence_report(ProgressiveRenderer& renderer, const std::stri
                                   const std::string& scene, const CameraSpec& camera,
                                   Extent extent, int max_samples, int reference_samples) {
   const Backend backend = renderer.backend();
-  Report report = start_report(
-      title, "Mpaths/s", "float64 mean of " + std::to_string(reference_samples) + " spp (mis)",
-      backend);
-  report.add_context("scene", scene);
-  report.add_context("resolution", to_string(extent));
-  const Reference reference = render_reference(renderer, camera, extent, reference_samples);
-  report.add_context("reference seconds", format_fixed(reference.seconds, 1));
+  Report report = start_error_report(title, backend, reference_samples);
+  const Reference reference =
+      add_reference(report, renderer, scene, camera, extent, reference_samples);
   double independent_mse = 0.0;
   for (const SamplerKind kind : k_samplers) {
     RenderSettings settings{PathVariant::persistent, KernelKind::specialised, Strategy::mis};

@@ -81,7 +81,11 @@ TEST_CASE("a sphere over a floor: albedo / pi * pi Le (R / d)^2 right below it",
   }
 }
 
-TEST_CASE("a sun and a sky over a floor: albedo / pi * E cos and albedo * sky", "[ch11]") {
+namespace {
+
+// A floor of albedo 0.6 under a sun (irradiance 2, 45 degrees up) and a sky of 0.25, nothing
+// else: every pixel's exact value is albedo / pi * E cos + albedo * sky.
+PathScene sun_and_sky_floor() {
   PathScene scene = make_disc_over_floor(0.5f, 1.0f, 0.0f, 0.6f, 100.0f, 8);
   scene.mesh.triangles.resize(2); // the floor alone
   scene.material.resize(2);
@@ -89,11 +93,24 @@ TEST_CASE("a sun and a sky over a floor: albedo / pi * E cos and albedo * sky", 
   scene.environment.sun_direction = normalize(Vec3f{0.0f, 1.0f, 1.0f});
   scene.environment.sun_irradiance = {2.0f, 2.0f, 2.0f};
   scene.environment.sky = {0.25f, 0.25f, 0.25f};
+  return scene;
+}
+
+// A narrow view straight down at the middle of that floor.
+CameraSpec looking_down_at_floor() {
   CameraSpec camera;
   camera.eye = {3.0, 0.4, 0.0};
   camera.target = {3.0, 0.0, 0.0};
   camera.up = {0.0, 0.0, -1.0};
   camera.fov_degrees = 5.0;
+  return camera;
+}
+
+} // namespace
+
+TEST_CASE("a sun and a sky over a floor: albedo / pi * E cos and albedo * sky", "[ch11]") {
+  PathScene scene = sun_and_sky_floor();
+  const CameraSpec camera = looking_down_at_floor();
   REQUIRE(features_used(scene) == (k_sky | k_sun));
   // Every bounce from the floor reaches the sky, so each sample is exact.
   const double expected = 0.6 / k_pi * 2.0 * std::sqrt(0.5) + 0.6 * 0.25;
@@ -243,18 +260,8 @@ TEST_CASE("a disc and a sphere over a floor with every sampler: the exact irradi
 
 TEST_CASE("a sun and a sky over a floor with every sampler: every sample exact",
           "[ch11][samplers]") {
-  PathScene scene = make_disc_over_floor(0.5f, 1.0f, 0.0f, 0.6f, 100.0f, 8);
-  scene.mesh.triangles.resize(2); // the floor alone
-  scene.material.resize(2);
-  scene.lights = build_light_table(scene);
-  scene.environment.sun_direction = normalize(Vec3f{0.0f, 1.0f, 1.0f});
-  scene.environment.sun_irradiance = {2.0f, 2.0f, 2.0f};
-  scene.environment.sky = {0.25f, 0.25f, 0.25f};
-  CameraSpec camera;
-  camera.eye = {3.0, 0.4, 0.0};
-  camera.target = {3.0, 0.0, 0.0};
-  camera.up = {0.0, 0.0, -1.0};
-  camera.fov_degrees = 5.0;
+  PathScene scene = sun_and_sky_floor();
+  const CameraSpec camera = looking_down_at_floor();
   const double expected = 0.6 / k_pi * 2.0 * std::sqrt(0.5) + 0.6 * 0.25;
   for (const SamplerKind sampler : k_samplers) {
     CAPTURE(to_string(sampler));
