@@ -137,6 +137,17 @@ TEST_CASE("program: --sampler renders the material room, and --sampler and --sam
   };
   const std::vector<rt::Vec3f> independent = radiance("independent");
   CHECK(radiance("zsobol") != independent); // the flag reaches the kernels
+  // --convergence --samplers: every sampler's rows and its line in the context, chapter 11's
+  // report made over chapter 12's renderer.
+  const ProgramRun compared =
+      run_program("--convergence --samplers --width 8 --height 6 --spp 4 --reference-spp 8");
+  INFO(compared.output);
+  REQUIRE(compared.exit_code == 0);
+  for (const char* sampler : {"independent", "stratified", "sobol", "zsobol"}) {
+    CAPTURE(sampler);
+    CHECK_THAT(compared.output, contains(std::string("sampler ") + sampler + ": MSE slope"));
+  }
+  CHECK_THAT(compared.output, contains("persistent, mis, zsobol sampler, 4 spp"));
   const rt::testing::RefusedInput cases[] = {
       {"--sampler bogus", 2, "unknown sampler 'bogus'"},
       {"--samplers", 2, "--samplers goes with --convergence"},
