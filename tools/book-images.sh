@@ -113,6 +113,17 @@ for strategy in bsdf light mis; do
   "$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 16 \
     --strategy "$strategy" --image-only --output "$img/11_strategy_$strategy.png" >/dev/null
 done
+# The room with the independent sampler at 160x120: 1, 4, 16 and 256 samples per pixel (MIS),
+# and at 4 samples bounces alone and shadow rays alone, where the fireflies show.
+for spp in 1 4 16 256; do
+  "$bin/ch11_path_tracing" --headless --backend cpu --image-only --sampler independent \
+    --width 160 --height 120 --spp "$spp" --output "$img/11_spp_$spp.png" >/dev/null
+done
+for strategy in bsdf light; do
+  "$bin/ch11_path_tracing" --headless --backend cpu --image-only --sampler independent \
+    --width 160 --height 120 --spp 4 --strategy "$strategy" \
+    --output "$img/11_spp4_$strategy.png" >/dev/null
+done
 "$bin/ch11_path_tracing" --headless --backend cpu --convergence --width 64 --height 48 \
   --spp 256 --reference-spp 4096 --json book/data/11_path_tracing_convergence.json >/dev/null
 python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time (CPU, 64x48)" \

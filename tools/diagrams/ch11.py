@@ -2,8 +2,10 @@
 """Chapter 11's diagrams (book/images/11_*.svg): the change of measure that turns next-event
 estimation's density per unit area of an emitter into a density per solid angle at the shaded
 point; the power heuristic's weights of the two strategies against the size of the light,
-from the formulas of path_sampling.h; and the three ways of running paths on a GPU (the
-megakernel, the wavefront, persistent threads) as timelines of a few lanes.
+from the formulas of path_sampling.h; the three ways of running paths on a GPU (the
+megakernel, the wavefront, persistent threads) as timelines of a few lanes; and two pictures of
+radiometry: a patch's solid angle and its shadow on the disc under the hemisphere (the projected
+solid angle, whose whole is pi), and irradiance's cosine (one beam over a surface turned away).
 
   tools/diagrams/ch11.py [OUT_DIR]     (default: book/images)
 """
@@ -340,6 +342,162 @@ def kernel_shapes(out):
     save(fig, out / "11_kernel_shapes.svg")
 
 
+# ------------------------------------------------------------------------------------------
+# Solid angle and projected solid angle.
+
+def solid_angle(out):
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.8),
+                                      gridspec_kw={"width_ratios": [1.15, 1]})
+    # Left: one patch at two distances, its footprint on the unit circle round p.
+    ax = left
+    ax.set_xlim(-1.3, 6.6)
+    ax.set_ylim(-2.3, 2.6)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    p = np.array([0.0, 0.0])
+    ax.add_patch(Arc((0, 0), 2, 2, theta1=0, theta2=360, color=GREY, linewidth=0.7,
+                     linestyle=":"))
+    ax.plot(*p, "o", color=BLUE, markersize=5)
+    ax.text(-0.15, -0.15, "p", fontsize=11, color=BLUE, ha="right", va="top")
+    ax.text(-0.75, 0.85, "unit circle\nround p", fontsize=8, color=GREY, ha="right")
+    size = 0.9  # the patch's side
+    for distance, colour, name in ((2.5, RED, "d"), (5.0, GOLD, "2d")):
+        centre = np.array([distance, 0.0])
+        a, b = centre + [0, -size / 2], centre + [0, size / 2]
+        ax.plot(*zip(a, b), color=colour, linewidth=5, solid_capstyle="butt")
+        for corner in (a, b):
+            ax.plot(*zip(p, corner), color=colour, linewidth=0.8)
+        ax.add_patch(Polygon([tuple(p), tuple(a), tuple(b)], closed=True, facecolor=colour,
+                             alpha=0.08, edgecolor="none"))
+        half = math.degrees(math.atan2(size / 2, distance))
+        ax.add_patch(Arc((0, 0), 2, 2, theta1=-half, theta2=half, color=colour,
+                         linewidth=4 if colour == RED else 2.5))
+        ax.text(centre[0], b[1] + 0.15, f"A at {name}", fontsize=9.5, color=colour,
+                ha="center", va="bottom")
+    ax.text(0.95, 0.3, "ω", fontsize=11, color=RED)
+    ax.text(1.02, -0.4, "ω/4", fontsize=9, color=GOLD)
+    # The same patch turned by theta: narrower as p sees it.
+    centre = np.array([2.5, -1.6])
+    turn = math.radians(60)
+    along = np.array([math.sin(turn), math.cos(turn)]) * size / 2
+    ax.plot(*zip(centre - along, centre + along), color=GREEN, linewidth=4,
+            solid_capstyle="butt")
+    ax.plot([centre[0] + 0.45, centre[0] + 0.45],
+            [centre[1] - size / 2 * math.cos(turn), centre[1] + size / 2 * math.cos(turn)],
+            color=GREEN, linewidth=1.4, linestyle=(0, (3, 2)))
+    ax.text(centre[0] + 0.6, centre[1], "turned by θ: it shows\nA cos θ to p", fontsize=8.5,
+            color=GREEN, va="center")
+    ax.text(-1.25, 2.55,
+            "solid angle ω = A cos θ / d²  (steradians)\n"
+            "twice as far: a quarter of the sky; the whole sphere: 4π",
+            fontsize=9.5, color=GREY, va="top")
+    # Right: the hemisphere above a point, in an oblique view, a patch dω on it and its shadow
+    # straight down on the base disc: cos θ dω. The disc is the whole hemisphere's shadow.
+    ax = right
+    ax.set_xlim(-1.35, 1.45)
+    ax.set_ylim(-0.75, 1.95)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    squash = 0.35  # the base circle seen from above the horizon
+
+    def view(x, y, z):  # world (x, y, z), z up, to the page
+        return np.array([x, z + squash * y])
+
+    angles = np.linspace(0, 2 * math.pi, 200)
+    base = np.array([view(math.cos(t), math.sin(t), 0) for t in angles])
+    ax.add_patch(Polygon(base, closed=True, facecolor=BLUE, alpha=0.10, edgecolor=BLUE,
+                         linewidth=1.0))
+    dome = np.array([view(math.cos(t), 0, math.sin(t)) for t in np.linspace(0, math.pi, 100)])
+    ax.plot(*dome.T, color=GREY, linewidth=1.0)
+    ax.plot(*np.array([view(math.cos(t), math.sin(t), 0)
+                       for t in np.linspace(0, math.pi, 100)]).T, color=GREY, linewidth=0.6,
+            linestyle=":")
+    ax.plot(*view(0, 0, 0), "o", color=BLUE, markersize=4)
+    arrow(ax, tuple(view(0, 0, 0)), tuple(view(0, 0, 1.3)), BLUE)
+    ax.text(*(view(0, 0, 1.3) + [0.06, -0.05]), "n", fontsize=11, color=BLUE)
+    # The patch: theta in [45, 60] degrees, phi in [-50, -15] (front right of the dome).
+    thetas, phis = np.radians([45, 60]), np.radians([-50, -15])
+    edge = ([(thetas[0], f) for f in np.linspace(*phis, 12)] +
+            [(t, phis[1]) for t in np.linspace(*thetas, 6)] +
+            [(thetas[1], f) for f in np.linspace(*phis[::-1], 12)] +
+            [(t, phis[0]) for t in np.linspace(*thetas[::-1], 6)])
+
+    def on_sphere(t, f):
+        return math.sin(t) * math.cos(f), math.sin(t) * math.sin(f), math.cos(t)
+
+    patch = np.array([view(*on_sphere(t, f)) for t, f in edge])
+    shadow = np.array([view(*on_sphere(t, f)[:2], 0) for t, f in edge])
+    ax.add_patch(Polygon(patch, closed=True, facecolor=RED, alpha=0.7, edgecolor=RED))
+    ax.add_patch(Polygon(shadow, closed=True, facecolor=RED, alpha=0.35, edgecolor=RED))
+    middle = on_sphere(thetas.mean(), phis.mean())
+    ax.plot(*zip(view(0, 0, 0), view(*middle)), color=RED, linewidth=0.8)
+    for t, f in ((thetas[0], phis[0]), (thetas[1], phis[1]), (thetas[0], phis[1]),
+                 (thetas[1], phis[0])):
+        x, y, z = on_sphere(t, f)
+        ax.plot(*zip(view(x, y, z), view(x, y, 0)), color=RED, linewidth=0.5, linestyle=":")
+    ax.text(*(view(*middle) + [0.1, 0.02]), "dω", fontsize=11, color=RED)
+    ax.annotate("its shadow on the disc:\ncos θ dω, the projected\nsolid angle",
+                xy=tuple(view(*on_sphere(thetas.mean(), phis.mean())[:2], 0)),
+                xytext=(-1.3, -0.72), fontsize=8.5, color=RED,
+                arrowprops={"arrowstyle": "->", "color": RED, "linewidth": 0.8})
+    ax.text(-1.3, 1.93,
+            "the hemisphere: 2π sr; its shadow, the unit disc: area π\n"
+            "∫ cos θ dω over the hemisphere = π",
+            fontsize=9.5, color=GREY, va="top")
+    save(fig, out / "11_solid_angle.svg")
+
+
+# ------------------------------------------------------------------------------------------
+# Irradiance's cosine: one beam over a surface turned further and further from it.
+
+def irradiance_cosine(out):
+    fig, axes = plt.subplots(1, 4, figsize=(12, 3.6),
+                             gridspec_kw={"width_ratios": [1, 1, 1, 1.25]})
+    width = 1.0  # the beam's cross-section
+    for ax, tilt in zip(axes[:3], (0, 45, 70)):
+        ax.set_xlim(-1.9, 1.9)
+        ax.set_ylim(-0.9, 2.4)
+        ax.set_aspect("equal")
+        ax.axis("off")
+        for x in np.linspace(-width / 2 + 0.05, width / 2 - 0.05, 6):
+            arrow(ax, (x, 2.2), (x, math.tan(math.radians(tilt)) * x + 0.03), GOLD, 1.0)
+        ax.add_patch(Polygon([(-width / 2, 2.2), (width / 2, 2.2),
+                              (width / 2, math.tan(math.radians(tilt)) * width / 2),
+                              (-width / 2, -math.tan(math.radians(tilt)) * width / 2)],
+                             closed=True, facecolor=GOLD, alpha=0.12, edgecolor="none"))
+        direction = np.array([math.cos(math.radians(tilt)), math.sin(math.radians(tilt))])
+        ax.plot(*zip(-1.6 * direction, 1.6 * direction), color=GREY, linewidth=1.5)
+        lit = width / 2 / math.cos(math.radians(tilt))
+        ax.plot(*zip(-lit * direction, lit * direction), color=RED, linewidth=4,
+                solid_capstyle="butt")
+        normal = np.array([-direction[1], direction[0]])
+        arrow(ax, (0, 0), tuple(0.9 * normal), BLUE)
+        if tilt:
+            angle_arc(ax, np.array([0.0, 0.0]), 1.1, normal, np.array([0.0, 1.0]), BLUE)
+            ax.text(*(0.7 * unit(normal + np.array([0.0, 1.0])) + [0.02, 0.02]), "θ",
+                    fontsize=10, color=BLUE)
+        cosine = math.cos(math.radians(tilt))
+        ax.text(0, -0.6, f"θ = {tilt}°: lit area A / cos θ = {1 / cosine:.2f} A"
+                f"\nE = Φ cos θ / A = {cosine:.2f} E₀", fontsize=8,
+                color=RED, ha="center", va="top")
+    axes[0].text(0.65, 2.2, "a beam:\nflux Φ,\ncross-\nsection A", fontsize=8.5,
+                 color=GOLD, va="top")
+    ax = axes[3]
+    theta = np.linspace(0, 90, 200)
+    ax.plot(theta, np.cos(np.radians(theta)), color=RED, linewidth=2)
+    for tilt in (0, 45, 70):
+        ax.plot([tilt], [math.cos(math.radians(tilt))], "o", color=RED, markersize=4)
+    ax.set_xlim(0, 90)
+    ax.set_ylim(0, 1.05)
+    ax.set_xticks([0, 30, 45, 60, 70, 90])
+    ax.set_xlabel("θ between the normal and the beam (degrees)", fontsize=8.5)
+    ax.set_ylabel("irradiance / E₀", fontsize=8.5)
+    ax.set_title("E = E₀ cos θ: the same power\non more area", fontsize=9)
+    ax.tick_params(labelsize=8)
+    fig.subplots_adjust(wspace=0.15)
+    save(fig, out / "11_irradiance_cosine.svg")
+
+
 def main():
     plt.rcParams.update({"svg.hashsalt": "rt-course-ch11", "font.family": "DejaVu Sans"})
     out = Path(sys.argv[1] if len(sys.argv) > 1 else "book/images")
@@ -347,6 +505,8 @@ def main():
     area_to_solid_angle(out)
     mis_weights(out)
     kernel_shapes(out)
+    solid_angle(out)
+    irradiance_cosine(out)
 
 
 if __name__ == "__main__":
