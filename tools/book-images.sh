@@ -227,9 +227,11 @@ python3 tools/plot-convergence.py --time kernel_ms \
 # byte by byte.
 for n in 05 06 07 08 09 11; do python3 "tools/diagrams/ch$n.py" "$img"; done
 
-# Chapter 10: the moving scene's 90th frame, and the diagram of Karras's tree with the plot of
-# rebuild against refit (from the frames measured on the CPU, book/data/10_animation_cpu.csv,
-# and on an H200, book/data/10_animation_h200.csv and 10_animation_dragon_h200.csv).
+# Chapter 10: the moving scene's 90th frame; the diagrams (the Morton curve over the torus
+# knot's centroids, read from assets/torus_knot_100k.obj.gz; the sorted codes' splits; Karras's
+# tree; PLOC's rounds on a dozen points) with the plots of rebuild against refit (from the frames
+# measured on the CPU, book/data/10_animation_cpu.csv, and on an H200,
+# book/data/10_animation_h200.csv and 10_animation_dragon_h200.csv).
 "$bin/ch10_gpu_build" --moving --backend cpu --frames 90 --update rebuild --width 320 \
   --height 180 --output "$img/10_moving.png" >/dev/null
 python3 tools/diagrams/ch10.py "$img"

@@ -1,20 +1,27 @@
 #!/usr/bin/env python3
-"""Chapter 10's diagrams and plots (book/images/10_*): Karras's tree over eight sorted
-Morton codes, each interior node made by its own thread, and the moving scene's frames, rebuilt
+"""Chapter 10's diagrams and plots (book/images/10_*): the Morton curve over the torus knot's
+triangles, the sorted codes' highest differing bits that split Karras's nodes, Karras's tree over
+eight sorted Morton codes, each interior node made by its own thread, PLOC's rounds re-enacted on
+a dozen points in the plane, and the moving scene's frames, rebuilt
 against refitted, from the CSVs the program wrote into book/data: the 2-core machine's (SVG) and
 the H200's, torus and dragon, each frame's tree, collapse and trace stacked (PNG).
 
   tools/diagrams/ch10.py [OUT_DIR]     (default: book/images)
 """
 import csv
+import gzip
+import math
 import sys
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("svg")
+matplotlib.rcParams["svg.hashsalt"] = "rt-course-ch10"  # the same file on every run
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.patches import FancyBboxPatch  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.patches import FancyBboxPatch, Rectangle  # noqa: E402
 
 BLUE, GREY, RED, GREEN = "#2a7ab0", "#555555", "#c0392b", "#2e8b57"
 ROOT = Path(__file__).resolve().parents[2]
@@ -159,10 +166,263 @@ def gpu_animation_plot(out, csv_name, scene, png_name):
     plt.close(fig)
 
 
+MODEL = ROOT / "assets" / "torus_knot_100k.obj.gz"
+MODEL_STRIDE = 50  # every 50th triangle of the knot: 2 000 centroids, a curve to follow
+
+
+def grid_cell(c, lo, hi, bits):
+    """morton.h's grid_cell, in float32 as the backends compute it."""
+    f = np.float32
+    half_extent = f(0.5) * f(hi) - f(0.5) * f(lo)
+    if not half_extent > 0:
+        return 0
+    cells = f(1 << bits)
+    q = (f(0.5) * f(c) - f(0.5) * f(lo)) / half_extent * cells
+    if not q > 0:
+        return 0
+    return (1 << bits) - 1 if q >= cells - f(1) else int(q)
+
+
+def spread(x, axes):
+    """Bit k of x moves to bit axes * k: the interleaving of morton.h, one bit at a time."""
+    return sum(((x >> k) & 1) << (axes * k) for k in range(10))
+
+
+def morton_order(points, axes):
+    """The points' 10-bit-per-axis codes over their bounds, and the stable sort by code that
+    build_passes.cuh's sort_by_code makes (equal codes keep their input order)."""
+    lo = [min(p[a] for p in points) for a in range(axes)]
+    hi = [max(p[a] for p in points) for a in range(axes)]
+    codes = []
+    for p in points:
+        cells = [grid_cell(p[a], lo[a], hi[a], 10) for a in range(axes)]
+        codes.append(sum(spread(cells[a], axes) << (axes - 1 - a) for a in range(axes)))
+    order = sorted(range(len(points)), key=lambda k: codes[k])
+    return order, codes
+
+
+def knot_centroids():
+    """Centroids of the torus knot's triangles (every MODEL_STRIDE-th), as box centroids."""
+    vertices, centroids = [], []
+    with gzip.open(MODEL, "rt") as f:
+        faces = 0
+        for line in f:
+            if line.startswith("v "):
+                vertices.append([np.float32(v) for v in line.split()[1:4]])
+            elif line.startswith("f "):
+                if faces % MODEL_STRIDE == 0:
+                    corners = [vertices[int(w.split("/")[0]) - 1] for w in line.split()[1:4]]
+                    lo = [min(c[a] for c in corners) for a in range(3)]
+                    hi = [max(c[a] for c in corners) for a in range(3)]
+                    centroids.append([np.float32(0.5) * lo[a] + np.float32(0.5) * hi[a]
+                                      for a in range(3)])
+                faces += 1
+    return centroids
+
+
+def morton_curve(out):
+    """The knot's centroids joined in 30-bit Morton order, seen from above (x, y), coloured by
+    place in the sorted array; beside it the same points coloured by their code's top three
+    bits (the octant) and top six (the octant's octant): runs of the array that are boxes."""
+    points = knot_centroids()
+    order, codes = morton_order(points, 3)
+    xs = [float(points[k][0]) for k in order]
+    ys = [float(points[k][1]) for k in order]
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.9))
+    n = len(order)
+    colours = plt.get_cmap("viridis")
+    segments = [[(xs[a], ys[a]), (xs[a + 1], ys[a + 1])] for a in range(n - 1)]
+    axes[0].add_collection(LineCollection(segments, colors=[colours(a / n) for a in range(n - 1)],
+                                          linewidth=0.7))
+    axes[0].autoscale_view()
+    axes[0].set_title(f"{n} centroids joined in Morton order\n(colour: place in the sorted "
+                      "array)", fontsize=10)
+    for ax, top_bits, name in ((axes[1], 3, "octant"), (axes[2], 6, "octant of an octant")):
+        groups = [codes[k] >> (30 - top_bits) for k in order]
+        palette = plt.get_cmap("tab10" if top_bits == 3 else "tab20")
+        distinct = sorted(set(groups))
+        ax.scatter(xs, ys, s=5, c=[palette(distinct.index(g) % palette.N) for g in groups])
+        ax.set_title(f"The top {top_bits} bits of the code: the {name}\n({len(distinct)} "
+                     "runs of the sorted array, each a box of the grid)", fontsize=10)
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+    neighbour = [math.dist(points[order[a]], points[order[a + 1]]) for a in range(n - 1)]
+    neighbour.sort()
+    extent = math.dist([min(p[a] for p in points) for a in range(3)],
+                       [max(p[a] for p in points) for a in range(3)])
+    fig.text(0.5, 0.02, f"Torus knot, every {MODEL_STRIDE}th of its 100 000 triangles. Of "
+             f"two centroids next to each other in the array, half lie within "
+             f"{neighbour[len(neighbour) // 2] / extent:.3f} of the scene's diagonal, 90 % "
+             f"within {neighbour[int(0.9 * len(neighbour))] / extent:.3f}; the longest jump "
+             f"is {neighbour[-1] / extent:.2f}.\nSeen from above: an octant also splits the "
+             "height, so two colours overlap where the knot passes over itself.",
+             ha="center", fontsize=9, color=GREY)
+    fig.savefig(out / "10_morton_curve.png", format="png", dpi=90, metadata={"Software": None},
+                bbox_inches="tight")
+    plt.close(fig)
+
+
+def karras_split(out):
+    """The sorted codes as a grid of bits. Each interior node covers a run of leaves; within
+    it the highest bit in which its first and last codes differ is 0 above the split and 1
+    below it: the node's column (outlined) and its split (the line across it)."""
+    n = len(CODES)
+    nodes = {i: karras_node(i) for i in range(n - 1)}
+    fig, ax = plt.subplots(figsize=(9.5, 5.2))
+    ax.set_xlim(-2.6, BITS + 4.6)
+    ax.set_ylim(n + 0.9, -1.3)
+    ax.axis("off")
+    for bit in range(BITS):
+        ax.text(bit + 0.5, -0.35, f"bit {BITS - 1 - bit}", ha="center", fontsize=8,
+                color=GREY)
+    for k, code in enumerate(CODES):
+        ax.text(-0.25, k + 0.5, f"leaf {k}", ha="right", va="center", fontsize=9, color=GREY)
+        for bit, digit in enumerate(f"{code:05b}"):
+            ax.add_patch(Rectangle((bit, k), 1, 1, facecolor="#eef5fb" if digit == "0"
+                                   else "#cfe3f3", edgecolor="white"))
+            ax.text(bit + 0.5, k + 0.5, digit, ha="center", va="center", fontsize=11,
+                    family="monospace")
+    palette = (RED, GREEN, BLUE, "#8e44ad", "#d35400", "#16a085", "#7f8c8d")
+    for i, (first, last, split) in sorted(nodes.items()):
+        bit = BITS - 1 - delta(first, last)  # the highest bit in which the ends differ
+        colour = palette[i % len(palette)]
+        column = BITS - 1 - bit
+        ax.add_patch(Rectangle((column + 0.06, first + 0.06), 0.88, last - first + 0.88,
+                               fill=False, edgecolor=colour, linewidth=2))
+        ax.plot([column + 0.06, column + 0.94], [split + 1, split + 1], color=colour,
+                linewidth=3)
+        x = BITS + 0.4 + 0.85 * column
+        ax.plot([x, x], [first + 0.15, last + 0.85], color=colour, linewidth=2)
+        ax.plot([x - 0.1, x + 0.1], [split + 1, split + 1], color=colour, linewidth=2)
+        ax.text(x + 0.1, (first + last + 1) / 2, f"node {i}", fontsize=8, color=colour,
+                va="center", rotation=90)
+    ax.text(-2.5, n + 0.55, "Each outline is one interior node: its leaves (rows), the highest "
+            "bit in which its first and last codes differ (column),\nand its split, where that "
+            "bit turns from 0 to 1 (thick line). Deeper nodes decide by lower bits. The "
+            "brackets on the right are the ranges.", fontsize=8.5, color=GREY, va="top")
+    save(fig, out / "10_karras_split.svg")
+    plt.close(fig)
+
+
+# A dozen points for PLOC's rounds, the corners of the clusters' boxes being the points
+# themselves (boxes of zero size, as far-apart triangles nearly are).
+PLOC_POINTS = [(0.9, 1.2), (1.4, 0.7), (2.6, 1.0), (3.1, 1.6), (5.2, 0.8), (5.6, 1.5),
+               (1.0, 3.2), (1.9, 3.6), (3.4, 3.0), (4.6, 3.9), (5.4, 3.3), (6.2, 2.6)]
+PLOC_RADIUS = 2  # the chapter's builds look 8 places each way; a dozen clusters need fewer
+
+
+def half_perimeter(box):
+    (x0, y0), (x1, y1) = box
+    return (x1 - x0) + (y1 - y0)
+
+
+def join(a, b):
+    return ((min(a[0][0], b[0][0]), min(a[0][1], b[0][1])),
+            (max(a[1][0], b[1][0]), max(a[1][1], b[1][1])))
+
+
+def ploc_rounds(points, radius):
+    """ploc.cu's rounds in the plane (the box's half perimeter plays the half area): each
+    cluster's nearest neighbour within `radius` places, the leftmost of equal ones; mutual
+    pairs merge, the left one making the node in its own place. Returns, for every round, the
+    clusters (name, box) in array order and their neighbours."""
+    order, _ = morton_order(points, 2)
+    clusters = [(str(k), (points[k], points[k])) for k in order]
+    rounds = []
+    while len(clusters) > 1:
+        neighbour = []
+        for i, (_, own) in enumerate(clusters):
+            best, best_area = -1, 0.0
+            for j in range(max(0, i - radius), min(len(clusters) - 1, i + radius) + 1):
+                if j == i:
+                    continue
+                area = half_perimeter(join(own, clusters[j][1]))
+                if best < 0 or area < best_area:
+                    best, best_area = j, area
+            neighbour.append(best)
+        rounds.append((clusters, neighbour))
+        merged = []
+        for i, (name, box) in enumerate(clusters):
+            j = neighbour[i]
+            mutual = neighbour[j] == i
+            if mutual and i < j:
+                merged.append((f"({name} {clusters[j][0]})", join(box, clusters[j][1])))
+            elif not mutual:
+                merged.append((name, box))
+        clusters = merged
+    rounds.append((clusters, [-1]))
+    return rounds
+
+
+def ploc_merges(out):
+    rounds = ploc_rounds(PLOC_POINTS, PLOC_RADIUS)
+    fig, grid = plt.subplots(2, 3, figsize=(13.5, 8.2))
+    for r, (ax, (clusters, neighbour)) in enumerate(zip(grid.flat, rounds)):
+        ax.set_xlim(0.3, 6.8)
+        ax.set_ylim(-0.9, 4.5)
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        for k, (x, y) in enumerate(PLOC_POINTS):
+            ax.plot(x, y, "o", color=GREY, markersize=3)
+            ax.text(x + 0.07, y + 0.07, str(k), fontsize=7, color=GREY)
+        pairs = 0
+        for i, (name, box) in enumerate(clusters):
+            (x0, y0), (x1, y1) = box
+            if x1 > x0 or y1 > y0:
+                ax.add_patch(Rectangle((x0 - 0.08, y0 - 0.08), x1 - x0 + 0.16,
+                                       y1 - y0 + 0.16, fill=False, edgecolor=BLUE))
+            j = neighbour[i]
+            if j < 0:
+                continue
+            mutual = neighbour[j] == i
+            centre = ((x0 + x1) / 2, (y0 + y1) / 2)
+            (u0, v0), (u1, v1) = clusters[j][1]
+            target = ((u0 + u1) / 2, (v0 + v1) / 2)
+            if mutual and i < j:
+                pairs += 1
+                (a0, b0), (a1, b1) = join(box, clusters[j][1])
+                ax.add_patch(Rectangle((a0 - 0.14, b0 - 0.14), a1 - a0 + 0.28,
+                                       b1 - b0 + 0.28, fill=False, edgecolor=RED,
+                                       linestyle="--", linewidth=1.5))
+            if not (mutual and i > j):
+                ax.annotate("", xy=target, xytext=centre,
+                            arrowprops=dict(arrowstyle="<->" if mutual else "->",
+                                            color=RED if mutual else GREY, linewidth=1.2,
+                                            shrinkA=2, shrinkB=2))
+        names = " ".join(name for name, _ in clusters)
+        if len(clusters) > 1:
+            ax.set_title(f"Round {r + 1}: {len(clusters)} clusters, {pairs} mutual pairs",
+                         fontsize=10)
+        else:
+            ax.set_title("The root", fontsize=10)
+        if len(names) > 42:  # the array in two lines, broken between two clusters
+            depth, gaps = 0, []  # (nesting depth, place) of every space
+            for at, letter in enumerate(names):
+                depth += {"(": 1, ")": -1}.get(letter, 0)
+                if letter == " ":
+                    gaps.append((depth, abs(at - len(names) // 2), at))
+            cut = min(gaps)[2]
+            names = names[:cut] + "\n" + names[cut + 1:]
+        ax.text(3.55, -0.2, names, ha="center", va="top", fontsize=8, family="monospace")
+    fig.text(0.5, 0.02, f"Below each panel the array of clusters in Morton order. Grey arrow: a "
+             f"cluster's nearest neighbour within {PLOC_RADIUS} places of it (the smallest "
+             "merged box). Red: two clusters\nthat chose each other; dashed: the box of the "
+             "node they make at the end of the round, in the left one's place. Blue: "
+             "clusters made in earlier rounds.", ha="center", fontsize=9.5, color=GREY)
+    save(fig, out / "10_ploc_rounds.svg")
+    plt.close(fig)
+
+
 def main():
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "book" / "images"
     out.mkdir(parents=True, exist_ok=True)
+    morton_curve(out)
+    karras_split(out)
     karras_tree(out)
+    ploc_merges(out)
     animation_plot(out)
     for csv_name, scene, png_name in GPU_ANIMATIONS:
         gpu_animation_plot(out, csv_name, scene, png_name)
