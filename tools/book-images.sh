@@ -251,3 +251,7 @@ python3 tools/plot-report.py --metric triangles_per_ray --rows "brute force" --r
   --missing 100000 --ylabel "triangle tests per ray" \
   --title "Chapter 07: triangle tests per ray against time per frame (1280x720)" \
   --out "$img/07_work_vs_time.svg" book/data/07_bvh.json
+
+# The closing chapter: a schematic of software against hardware traversal, and chapter 09's
+# 4-wide packed tree against OptiX on the H200 (book/data/09_benchmark_h200.json, anchors.json).
+python3 tools/diagrams/closing.py "$img"
