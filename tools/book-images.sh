@@ -223,8 +223,9 @@ python3 tools/plot-convergence.py --time kernel_ms \
 
 # Diagrams of chapters 05 on, one script per chapter (matplotlib; chapter 08's also plots
 # book/data: each memory path against plain loads, and __ldg's loss on the 16-byte loads on the
-# H100 and the H200); chapters 01-04 drew theirs above. Chapter 09's is its compressed node,
-# byte by byte.
+# H100 and the H200); chapters 01-04 drew theirs above. Chapter 09's: its compressed node byte
+# by byte, the collapse, a child box on its parent's grid, octant order, a warp's lanes, and the
+# three warp-busy variants plotted from book/data/09_benchmark_h200.json.
 for n in 05 06 07 08 09 11; do python3 "tools/diagrams/ch$n.py" "$img"; done
 
 # Chapter 10: the moving scene's 90th frame; the diagrams (the Morton curve over the torus
