@@ -103,15 +103,19 @@ done
 
 # Chapter 11: the Cornell room at 512 samples per pixel, and at 16 with each strategy for
 # direct light (bounces only, shadow rays only, both weighted by MIS); then its error against
-# run time on the CPU, measured here (the JSON goes to book/data, the plot below).
+# run time on the CPU, measured here (the JSON goes to book/data, the plot below). Chapters 11
+# and 12's pictures are drawn with the independent sampler, the numbers their text describes
+# (the programs' default is chapter 11b's sobol sampler).
 "$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 512 \
-  --image-only --output "$img/11_room.png" >/dev/null
+  --sampler independent --image-only --output "$img/11_room.png" >/dev/null
 # Bounces alone at 28 samples: about the time of MIS's 16 (the convergence table's costs).
 "$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 28 \
-  --strategy bsdf --image-only --output "$img/11_equal_time_bsdf.png" >/dev/null
+  --sampler independent --strategy bsdf --image-only \
+  --output "$img/11_equal_time_bsdf.png" >/dev/null
 for strategy in bsdf light mis; do
   "$bin/ch11_path_tracing" --headless --backend cpu --width 320 --height 240 --spp 16 \
-    --strategy "$strategy" --image-only --output "$img/11_strategy_$strategy.png" >/dev/null
+    --sampler independent --strategy "$strategy" --image-only \
+    --output "$img/11_strategy_$strategy.png" >/dev/null
 done
 # The room with the independent sampler at 160x120: 1, 4, 16 and 256 samples per pixel (MIS),
 # and at 4 samples bounces alone and shadow rays alone, where the fireflies show.
@@ -130,7 +134,7 @@ python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time
   --out "$img/11_convergence.svg" book/data/11_path_tracing_convergence.json
 # ...chapter 10's moving scene, its 30th frame at 64 samples per pixel (seconds on the CPU)...
 "$bin/ch11_path_tracing" --moving --headless --backend cpu --image-only --frames 30 \
-  --width 320 --height 180 --sun 0.4,1,0.3 --sky 0.6 --spp 64 \
+  --sampler independent --width 320 --height 180 --sun 0.4,1,0.3 --sky 0.6 --spp 64 \
   --output "$img/11_moving.png" >/dev/null
 # ...and the error against run time of the three scenes on an H200, against the kernels' time
 # (book/data, from tools/gpu/run.sh's bench11 step).
@@ -177,13 +181,13 @@ python3 tools/diagrams/ch11b.py "$img" "$scratch" book/data/11b_samplers_cpu_roo
 # tools/make-material-room.py's checkerboard), point-sampled and trilinear, at 4 samples per
 # pixel.
 "$bin/ch12_materials" --headless --backend cpu --width 320 --height 240 --spp 128 \
-  --image-only --output "$img/12_room.png" >/dev/null
+  --sampler independent --image-only --output "$img/12_room.png" >/dev/null
 for series in gold glass white-metal; do
   "$bin/ch12_materials" --headless --backend cpu --series "$series" --width 480 --height 192 \
-    --spp 64 --image-only --output "$img/12_series_$series.png" >/dev/null
+    --sampler independent --spp 64 --image-only --output "$img/12_series_$series.png" >/dev/null
 done
 "$bin/ch12_materials" --headless --backend cpu --series white-metal --no-compensation \
-  --width 480 --height 192 --spp 64 --image-only \
+  --sampler independent --width 480 --height 192 --spp 64 --image-only \
   --output "$img/12_series_white-metal_no_compensation.png" >/dev/null
 "$bin/ch12_chi2_maps" --material rough-glass --roughness 0.5 --theta 50 \
   --output "$img/12_chi2_rough_glass.png" >/dev/null
@@ -194,7 +198,7 @@ furnace() {
   local name="$1"
   shift
   "$bin/ch12_materials" --headless --backend cpu --width 128 --height 128 --spp 64 \
-    --image-only --output "$scratch/12_furnace_$name.pfm" "$@" >/dev/null
+    --sampler independent --image-only --output "$scratch/12_furnace_$name.pfm" "$@" >/dev/null
 }
 furnace glass --furnace glass
 furnace rough_glass --furnace rough-glass --roughness 0.6
@@ -212,7 +216,7 @@ open(sys.argv[1], "wb").write(room.checkerboard(side=1024, squares=128))
 PYTHON
 for filter in point trilinear; do
   "$bin/ch12_materials" --headless --backend cpu --scene "$scratch/material_room.gltf" \
-    --width 320 --height 180 --spp 4 --filter "$filter" --eye 0.9,0.1,0.97 \
+    --sampler independent --width 320 --height 180 --spp 4 --filter "$filter" --eye 0.9,0.1,0.97 \
     --target -0.2,0,-1 --fov 45 --image-only --output "$img/12_aliasing_$filter.png" >/dev/null
 done
 # ...and the room's error against run time on an H200 (book/data, from tools/gpu/run.sh's
