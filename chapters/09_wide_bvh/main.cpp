@@ -7,14 +7,17 @@
 //   --rays FILE --hits FILE        a ray file through --tracer, hits to a file
 //   --dump-hits FILE --ray-type T  the protocol's hits of one view through --tracer
 //   --benchmark [SCENE...]         every tracer on the benchmark set (default) or the scenes
+//   --heat-map                     the image shows the wide nodes each camera ray visits
 #include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "camera_cli.h"
+#include "heat_map.h"
 #include "program.h"
 #include "query_modes.h"
+#include "rt/image.h"
 #include "rt/program_output.h"
 #include "runner.h"
 #include "shaded_render.h"
@@ -33,6 +36,7 @@ struct ChapterOptions : ch03::ProgramOptions {
   std::optional<ChapterTracer> tracer; // --tracer: the one traced (queries) or measured
   long long reference_rays = ch07::k_protocol_reference_rays;
   bool skip_cpu = false;
+  bool heat_map = false; // the image shows wide nodes visited per ray instead of shading
 };
 
 // The chapter's flags that only some modes read (chapter 07's query_modes.h): the image is
@@ -41,6 +45,7 @@ const ch07::FlagModes k_chapter_flags[] = {
     {"--tracer", ch07::k_traced_modes},
     {"--reference-rays", ch07::k_report_modes},
     {"--skip-cpu", ch07::k_report_modes},
+    {"--heat-map", ch07::k_image_modes},
 };
 
 // The error of a run in which a tree broke its rule.
@@ -140,6 +145,9 @@ int run(ChapterOptions& options) {
             const CompressedSceneView view =
                 d_scene ? with_wide(d_scene->view(), d_tree->view())
                         : with_wide(ch06::host_view(scene, features), tree->view());
+            if (options.heat_map)
+              return render_wide_heat_map(
+                  b, view.mesh.tree, ch03::make_camera<float>(spec, extent), extent, pixels);
             render_wide_shaded(b, features, view, ch03::make_camera<float>(spec, extent),
                                extent, pixels, nullptr, radiance);
           },
@@ -181,9 +189,15 @@ int main(int argc, char** argv) {
          "queries' tree; the measurements then compare it with binary alone)")
       ->default_str("all (queries: cwbvh8)");
   ch07::add_reference_options(app, options.reference_rays, options.skip_cpu);
+  app.add_flag("--heat-map", options.heat_map,
+               "The image shows how many wide nodes each pixel's ray visits (chapter 07's "
+               "colours: white at " +
+                   std::to_string(ch07::k_heat_map_max_nodes) + " or more)");
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
     ch07::check_query_options(options.query, options, app, k_chapter_flags);
+    if (options.heat_map && is_linear_image_path(options.common.output))
+      throw UsageError("--heat-map draws node counts, not radiance: write it as a .png");
     return run(options);
   });
 }

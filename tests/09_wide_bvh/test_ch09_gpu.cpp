@@ -140,3 +140,18 @@ TEST_CASE("gpu: the shaded frame through the compressed tree is the CPU's", "[ch
                      extent, d_pixels.data());
   CHECK(count_differing_pixels(cpu, d_pixels.to_host()) == 0);
 }
+
+TEST_CASE("gpu: the wide heat map is the CPU's", "[ch09][gpu]") {
+  RT_REQUIRE_GPU();
+  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
+  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
+  const Extent extent{96, 54};
+  const ch03::Camera<float> camera =
+      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  std::vector<Rgba8> cpu(extent.pixel_count());
+  render_wide_heat_map(Backend::cpu, tree.view(), camera, extent, cpu.data());
+  const DeviceWideTree<CompressedNode> d_tree(tree);
+  DeviceBuffer<Rgba8> d_pixels(extent.pixel_count());
+  render_wide_heat_map(Backend::gpu, d_tree.view(), camera, extent, d_pixels.data());
+  CHECK(count_differing_pixels(cpu, d_pixels.to_host()) == 0);
+}

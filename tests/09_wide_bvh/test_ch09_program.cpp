@@ -157,8 +157,22 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch09]
       {"--rays " + (folder / "missing.bin").string() + " --hits " + hits, 1, "missing.bin"},
       {"--ray-type shiny --dump-hits " + hits, 2, "ray-type"},
       {"--image-only --output ''", 2, "--output"},
+      {"--heat-map --image-only --output " + (folder / "counts.exr").string(), 2,
+       "--heat-map draws node counts"},
+      {"--heat-map --benchmark " + k_room, 2, "--heat-map does nothing with --benchmark"},
   };
   rt::testing::check_refused(run_program, cases);
+}
+
+TEST_CASE("program: --heat-map draws the wide nodes each ray visits", "[ch09]") {
+  const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09");
+  const std::string image = (folder / "heat.png").string();
+  const ProgramRun run = run_program("--heat-map --image-only --width 32 "
+                                     "--height 18 --output " +
+                                     image);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK(std::filesystem::file_size(image) > 100);
 }
 
 TEST_CASE("program: the benchmark's report states the runs --frames asked for", "[ch09]") {

@@ -21,6 +21,7 @@
 #include "adversarial_rays.h"
 #include "bvh_build.h"
 #include "bvh_render.h"
+#include "heat_map.h"
 #include "leak_configurations.h"
 #include "ray_sort.h"
 #include "run_program.h"
@@ -574,4 +575,42 @@ TEST_CASE("chapter 06's shading through the compressed tree gives chapter 07's i
     CAPTURE(smooth);
     CHECK(count_differing_pixels(binary, wide) == 0);
   }
+}
+
+TEST_CASE("the wide heat map colours each ray's wide node count, and visits fewer nodes than "
+          "the binary tree",
+          "[ch09]") {
+  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
+  const ch07::Bvh bvh = ch07::build_bvh(scene.mesh, {});
+  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
+  const Extent extent{96, 54};
+  const ch03::Camera<float> camera =
+      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  std::vector<Rgba8> pixels(extent.pixel_count());
+  render_wide_heat_map(Backend::cpu, tree.view(), camera, extent, pixels.data());
+  long long wide_nodes = 0, binary_nodes = 0, differing = 0, hit_pixels = 0;
+  for (int y = 0; y < extent.height; ++y)
+    for (int x = 0; x < extent.width; ++x) {
+      const RayF ray = camera.ray_through_pixel(x, y);
+      ch07::Counters wide, binary;
+      const TraceHit wide_hit = trace_wide<Query::closest>(tree.view(), ray, wide);
+      ch07::trace_bvh<Query::closest, ch04::TriangleVariant::watertight>(bvh.view(), ray,
+                                                                         binary);
+      const Rgba8 expected = ch07::heat_colour(wide.nodes);
+      const Rgba8 got = pixels[std::size_t(y) * extent.width + x];
+      differing += (got.r != expected.r || got.g != expected.g || got.b != expected.b);
+      wide_nodes += wide.nodes;
+      binary_nodes += binary.nodes;
+      hit_pixels += wide_hit.triangle >= 0;
+    }
+  CHECK(differing == 0);
+  REQUIRE(hit_pixels > extent.pixel_count() / 10); // the model fills part of the view
+  // Each wide node stands for up to seven binary ones; on this model the camera rays visit
+  // fewer than half as many nodes in the wide tree.
+  INFO("wide " << wide_nodes << " nodes, binary " << binary_nodes);
+  CHECK(wide_nodes * 2 < binary_nodes);
+  // The colour scale is chapter 07's: black for none, white at the cap and beyond.
+  const Rgba8 none = ch07::heat_colour(0), full = ch07::heat_colour(ch07::k_heat_map_max_nodes);
+  CHECK((none.r == 0 && none.g == 0 && none.b == 0));
+  CHECK((full.r == 255 && full.g == 255 && full.b == 255));
 }
