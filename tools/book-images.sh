@@ -100,6 +100,10 @@ for split in median sah; do
   "$bin/ch07_bvh" --headless --backend cpu --width 480 --height 270 --image-only --heat-map \
     --split "$split" --output "$img/07_heat_$split.png" >/dev/null
 done
+# Chapter 09: the same view's heat map through the compressed 8-wide tree, in chapter 07's
+# colours (wide nodes visited per camera ray).
+"$bin/ch09_wide_bvh" --headless --backend cpu --width 480 --height 270 --image-only --heat-map \
+  --output "$img/09_heat_wide.png" >/dev/null
 
 # Chapter 11: the Cornell room at 512 samples per pixel, and at 16 with each strategy for
 # direct light (bounces only, shadow rays only, both weighted by MIS); then its error against
