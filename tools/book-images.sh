@@ -132,6 +132,43 @@ for strategy in bsdf light; do
     --width 160 --height 120 --spp 4 --strategy "$strategy" \
     --output "$img/11_spp4_$strategy.png" >/dev/null
 done
+# The white furnace: a closed cube whose faces (wound to face inwards) have albedo 0.8 and emit
+# 0.2, seen from inside at 16 samples per pixel by each strategy; every pixel's mean is
+# Le / (1 - a) = 1, the cube's edges vanish, and only the noise differs.
+python3 - "$scratch" <<'PYTHON'
+import sys, pathlib
+out = pathlib.Path(sys.argv[1])
+# A closed cube [-1, 1]^3 whose faces are wound to face inwards (counter-clockwise seen from
+# inside), every face albedo 0.8 and emitting 0.2: inside, L = Le / (1 - a) = 1 everywhere.
+v = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+index = {p: i + 1 for i, p in enumerate(v)}
+faces = []
+for axis in range(3):
+    for side in (-1, 1):
+        corners = [p for p in v if p[axis] == side]
+        a, b = [i for i in range(3) if i != axis]
+        around = {(-1, -1): 0, (1, -1): 1, (1, 1): 2, (-1, 1): 3}
+        ring = sorted(corners, key=lambda p: around[(p[a], p[b])])
+        # counter-clockwise in (a, b) seen from +axis: the + face must turn the other way
+        if (side > 0) == ((a, b) in ((1, 2), (2, 0), (0, 1))):
+            ring = ring[::-1]
+        i = [index[p] for p in ring]
+        faces += [(i[0], i[1], i[2]), (i[0], i[2], i[3])]
+(out / "furnace_box.mtl").write_text("newmtl furnace\nKd 0.8 0.8 0.8\nKe 0.2 0.2 0.2\n")
+with open(out / "furnace_box.obj", "w") as f:
+    f.write("mtllib furnace_box.mtl\n")
+    for p in v:
+        f.write("v %d %d %d\n" % p)
+    f.write("usemtl furnace\n")
+    for t in faces:
+        f.write("f %d %d %d\n" % t)
+PYTHON
+for strategy in bsdf light mis; do
+  "$bin/ch11_path_tracing" --headless --backend cpu --sampler independent \
+    --scene "$scratch/furnace_box.obj" --eye 0.3,0.2,0.1 --target 0.3,0.2,-1 --fov 100 \
+    --width 160 --height 120 --spp 16 --strategy "$strategy" --image-only --exposure 0.5 \
+    --output "$img/11_furnace_$strategy.png" >/dev/null
+done
 "$bin/ch11_path_tracing" --headless --backend cpu --convergence --width 64 --height 48 \
   --spp 256 --reference-spp 4096 --json book/data/11_path_tracing_convergence.json >/dev/null
 python3 tools/plot-convergence.py --title "Chapter 11: relative MSE against time (CPU, 64x48)" \
