@@ -96,11 +96,8 @@ struct ShadowRays { // 92 bytes
 };
 static_assert(sizeof(ShadowRays) == 92);
 
-// The path's number for `dimension` at its current vertex, from the scene's sampler, and the
-// two of a pad (dimensions first and first + 1, first even).
-RT_HD inline float number(const Sampler& sampler, const PathState& path, unsigned dimension) {
-  return sample_number(sampler, path.pixel, path.sample, unsigned(path.vertex), dimension);
-}
+// The path's two numbers of a pad at its current vertex (dimensions first and first + 1,
+// first even), from the scene's sampler.
 RT_HD inline Vec2f number_pair(const Sampler& sampler, const PathState& path, unsigned first) {
   return sample_pair(sampler, path.pixel, path.sample, unsigned(path.vertex), first);
 }

@@ -167,11 +167,6 @@ RT_HD inline Vec2f stratified_pair(const Sampler& s, unsigned pixel, unsigned sa
   return {cell_coordinate(cell % s.cells, jitter_x, s.cells),
           cell_coordinate(cell / s.cells, jitter_y, s.cells)};
 }
-RT_HD inline float stratified_number(const Sampler& s, unsigned pixel, unsigned sample,
-                                     unsigned pad, unsigned axis) {
-  const Vec2f p = stratified_pair(s, pixel, sample, pad);
-  return axis == 0 ? p.x : p.y;
-}
 // [/listing:stratified_number]
 
 // ---- Sobol', padded -------------------------------------------------------------------------
@@ -195,10 +190,6 @@ RT_HD inline Vec2f sobol_pair(unsigned pixel, unsigned sample, unsigned pad) {
   const unsigned seed = hash_words(pixel, pad);
   const unsigned index = owen_scramble(sample, seed);
   return scrambled_sobol_pair(index, seed);
-}
-RT_HD inline float sobol_number(unsigned pixel, unsigned sample, unsigned pad, unsigned axis) {
-  const Vec2f p = sobol_pair(pixel, sample, pad);
-  return axis == 0 ? p.x : p.y;
 }
 // [/listing:sobol_number]
 
@@ -280,11 +271,6 @@ RT_HD inline Vec2f zsobol_pair(const Sampler& s, unsigned pixel, unsigned sample
   const unsigned block = sample >> s.log2_block;
   const unsigned seed = hash_words(pad, block, 0x5bd1e995u);
   return scrambled_sobol_pair(zsobol_index(s, pixel, sample, seed), seed);
-}
-RT_HD inline float zsobol_number(const Sampler& s, unsigned pixel, unsigned sample,
-                                 unsigned pad, unsigned axis) {
-  const Vec2f p = zsobol_pair(s, pixel, sample, pad);
-  return axis == 0 ? p.x : p.y;
 }
 
 // [listing:sampler_number]
