@@ -123,11 +123,8 @@ TEST_CASE("gpu: every wide tree gives the CPU's hits bit for bit", "[ch09][gpu]"
 
 TEST_CASE("gpu: the shaded frame through the compressed tree is the CPU's", "[ch09][gpu]") {
   RT_REQUIRE_GPU();
-  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
-  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
-  const Extent extent{96, 54};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  const ShadedView view;
+  const auto& [scene, tree, extent, camera] = view;
   const unsigned features = ch06::features_used(scene, true, true);
   std::vector<Rgba8> cpu(extent.pixel_count());
   render_wide_shaded(Backend::cpu, features,
@@ -143,11 +140,8 @@ TEST_CASE("gpu: the shaded frame through the compressed tree is the CPU's", "[ch
 
 TEST_CASE("gpu: the wide heat map is the CPU's", "[ch09][gpu]") {
   RT_REQUIRE_GPU();
-  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
-  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
-  const Extent extent{96, 54};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+  const ShadedView view;
+  const auto& [scene, tree, extent, camera] = view;
   std::vector<Rgba8> cpu(extent.pixel_count());
   render_wide_heat_map(Backend::cpu, tree.view(), camera, extent, cpu.data());
   const DeviceWideTree<CompressedNode> d_tree(tree);

@@ -558,12 +558,9 @@ TEST_CASE("rays are sorted by octant, then by their origin's Morton code", "[ch0
 
 TEST_CASE("chapter 06's shading through the compressed tree gives chapter 07's image",
           "[ch09]") {
-  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
+  const ShadedView shaded;
+  const auto& [scene, tree, extent, camera] = shaded;
   const ch07::Bvh bvh = ch07::build_bvh(scene.mesh, {});
-  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
-  const Extent extent{96, 54};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
   for (const bool smooth : {false, true}) {
     const unsigned features = ch06::features_used(scene, smooth, true);
     const ch06::SceneView view = ch06::host_view(scene, features);
@@ -580,12 +577,9 @@ TEST_CASE("chapter 06's shading through the compressed tree gives chapter 07's i
 TEST_CASE("the wide heat map colours each ray's wide node count, and visits fewer nodes than "
           "the binary tree",
           "[ch09]") {
-  const ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
+  const ShadedView shaded;
+  const auto& [scene, tree, extent, camera] = shaded;
   const ch07::Bvh bvh = ch07::build_bvh(scene.mesh, {});
-  const CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
-  const Extent extent{96, 54};
-  const ch03::Camera<float> camera =
-      ch03::make_camera<float>(ch06::default_camera(1.0), extent);
   std::vector<Rgba8> pixels(extent.pixel_count());
   render_wide_heat_map(Backend::cpu, tree.view(), camera, extent, pixels.data());
   long long wide_nodes = 0, binary_nodes = 0, differing = 0, hit_pixels = 0;

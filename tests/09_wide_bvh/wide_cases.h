@@ -13,6 +13,7 @@
 #include "07_bvh/bvh_cases.h"
 #include "bvh_build.h"
 #include "collapse.h"
+#include "shaded_scene.h"
 #include "traverse.h"
 #include "wide_traverse.h"
 
@@ -158,5 +159,14 @@ Agreement against_brute_force(const Tree& tree, const Mesh& mesh,
   }
   return a;
 }
+
+// The picture tests' view: chapter 06's default scene, its compressed tree, and the default
+// camera at 96 x 54.
+struct ShadedView {
+  ch06::ShadedScene scene = ch06::make_default_scene(2, 1.0, {});
+  CompressedBvh tree = compress(build_wide_layout(scene.mesh, 8, Collapse::sah));
+  Extent extent{96, 54};
+  ch03::Camera<float> camera = ch03::make_camera<float>(ch06::default_camera(1.0), extent);
+};
 
 } // namespace rt::ch09::testing
