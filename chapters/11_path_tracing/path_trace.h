@@ -105,19 +105,26 @@ RT_HD inline Vec2f number_pair(const Sampler& sampler, const PathState& path, un
 // [listing:vertex_numbers]
 // The numbers a surface vertex draws, pad by pad (samplers.h): the bounce's pair, Russian
 // roulette's and the light pick's, the point on the light, and a spare pair a later chapter
-// uses (`pads` of them, 3 or 4). They are drawn together, with one choice of sampler for the
-// vertex rather than one for each number: the short samplers (independent, sobol) in a loop
-// the compiler unrolls, the long ones (stratified, zsobol) in a loop the GPU's compiler is told
-// to keep rolled, so that their code appears once in the kernel rather than once for each
-// place a number is used; with four samplers behind a switch at every use, the copies made
-// the kernel large enough to slow the GPU. The numbers are the same as one at a time, whatever
-// order they are drawn in.
+// uses; `pads` says which (a mask of k_pad_* bits), so that a vertex with no next-event
+// estimation and no roulette draws only its bounce. They are drawn together, with one choice of
+// sampler for the vertex rather than one for each number: the short samplers (independent,
+// sobol) in a loop the compiler unrolls, the long ones (stratified, zsobol) in a loop the GPU's
+// compiler is told to keep rolled, so that their code appears once in the kernel rather than
+// once for each place a number is used; with four samplers behind a switch at every use, the
+// copies made the kernel large enough to slow the GPU. The numbers are the same as one at a
+// time, whatever order they are drawn in.
 struct VertexNumbers {
   Vec2f bsdf;       // k_bsdf_u, k_bsdf_v
   float roulette;   // k_roulette
   float light_pick; // k_light_pick
   Vec2f light;      // k_light_u, k_light_v
   Vec2f spare;      // dimensions 6 and 7
+};
+enum PadMask : unsigned {
+  k_pad_bsdf = 1u << 0,     // VertexNumbers::bsdf
+  k_pad_roulette = 1u << 1, // roulette and light_pick (one pad)
+  k_pad_light = 1u << 2,    // light
+  k_pad_spare = 1u << 3,    // spare
 };
 RT_HD inline void put_pad(VertexNumbers& u, unsigned pad, Vec2f p) {
   if (pad == 0) u.bsdf = p;
@@ -132,20 +139,21 @@ RT_HD inline VertexNumbers vertex_numbers(const Sampler& sampler, const PathStat
   if (sampler.kind == SamplerKind::independent) {
     RT_UNROLL
     for (unsigned pad = 0; pad < 4; ++pad)
-      if (pad < pads)
+      if ((pads >> pad) & 1u)
         put_pad(u, pad,
                 {sample_number(path.pixel, path.sample, vertex, 2 * pad),
                  sample_number(path.pixel, path.sample, vertex, 2 * pad + 1)});
   } else if (sampler.kind == SamplerKind::sobol) {
     RT_UNROLL
     for (unsigned pad = 0; pad < 4; ++pad)
-      if (pad < pads) put_pad(u, pad, sobol_pair(path.pixel, path.sample, first_pad + pad));
+      if ((pads >> pad) & 1u)
+        put_pad(u, pad, sobol_pair(path.pixel, path.sample, first_pad + pad));
   } else {
 #if RT_ON_DEVICE
 #pragma unroll 1
 #endif
-    for (unsigned pad = 0; pad < pads; ++pad)
-      put_pad(u, pad, number_pair(sampler, path, 2 * pad));
+    for (unsigned pad = 0; pad < 4; ++pad)
+      if ((pads >> pad) & 1u) put_pad(u, pad, number_pair(sampler, path, 2 * pad));
   }
   return u;
 }
@@ -337,7 +345,14 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
                        emitter_hit_weight(s, path, strategy, m.emission, dot(n, d), hit.t);
   }
   const Vec3f origin = spawn_origin(p, n, triangle);
-  const VertexNumbers u = vertex_numbers(s.sampler, path, 3); // the spare pair not needed
+  bool next_event = false; // a shadow ray to a point on an emitter
+  if constexpr (F::compiled(k_emitters))
+    next_event = features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0;
+  const bool roulette = path.vertex >= k_roulette_from_vertex;
+  const VertexNumbers u =
+      vertex_numbers(s.sampler, path,
+                     k_pad_bsdf | (next_event || roulette ? k_pad_roulette : 0u) |
+                         (next_event ? k_pad_light : 0u));
   if constexpr (F::compiled(k_sun)) {
     const Environment& e = s.environment;
     const float cosine = dot(n, e.sun_direction);
@@ -348,8 +363,7 @@ RT_HD bool shade_vertex(const PathSceneView& s, F features, Strategy strategy, P
     }
   }
   if constexpr (F::compiled(k_emitters))
-    if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0)
-      sample_emitter(s, path, u, origin, n, m.albedo, strategy, shadows);
+    if (next_event) sample_emitter(s, path, u, origin, n, m.albedo, strategy, shadows);
   // The bounce: cosine-weighted, so the throughput is multiplied by the albedo alone.
   const DirectionSample bounce = sample_cosine(n, u.bsdf.x, u.bsdf.y);
   path.throughput = path.throughput * m.albedo;

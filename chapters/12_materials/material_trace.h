@@ -273,8 +273,17 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
   const Frame frame{n, ch07::duff_frame(n)};
   const Vec3f wo = frame.to_local(-d);
   const bool smooth_only = bsdf_is_delta_only(bsdf);
+  bool next_event = false; // a shadow ray to a point on an emitter
+  if constexpr (F::compiled(k_emitters))
+    next_event = features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0 &&
+                 !smooth_only;
+  const bool roulette = path.vertex >= ch11::k_roulette_from_vertex;
   // The vertex's numbers (chapter 11's VertexNumbers); the spare pair's first is the lobe's.
-  const ch11::VertexNumbers u = ch11::vertex_numbers(s.sampler, path, 4);
+  const ch11::VertexNumbers u =
+      ch11::vertex_numbers(s.sampler, path,
+                           ch11::k_pad_bsdf | ch11::k_pad_spare |
+                               (next_event || roulette ? ch11::k_pad_roulette : 0u) |
+                               (next_event ? ch11::k_pad_light : 0u));
   static_assert(k_lobe_pick == 6, "the lobe pick is the spare pad's first number");
   if constexpr (F::compiled(k_sun)) {
     const Environment& e = s.environment;
@@ -290,8 +299,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
     }
   }
   if constexpr (F::compiled(k_emitters))
-    if (features.on(k_emitters) && strategy != Strategy::bsdf && s.light_count > 0 &&
-        !smooth_only)
+    if (next_event)
       sample_emitter_bsdf(s, features, path, u, p, frame, triangle, wo, bsdf, strategy,
                           shadows);
   // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
