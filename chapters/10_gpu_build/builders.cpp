@@ -24,6 +24,7 @@ constexpr BuilderInfo k_info[] = {
     {Builder::lbvh, "LBVH", "lbvh"},
     {Builder::lbvh63, "LBVH 63-bit", "lbvh63"},
     {Builder::ploc, "PLOC", "ploc"},
+    {Builder::hploc, "H-PLOC", "hploc"},
 };
 
 const BuilderInfo& info(Builder builder) {
@@ -60,6 +61,10 @@ BuiltTree build_tree(Builder builder, Backend backend, const ch04::Mesh& mesh) {
   }
   case Builder::ploc: {
     GpuBuild build = build_ploc(backend, mesh);
+    return {std::move(build.bvh), backend, std::move(build.note)};
+  }
+  case Builder::hploc: {
+    GpuBuild build = build_hploc(backend, mesh);
     return {std::move(build.bvh), backend, std::move(build.note)};
   }
   }

@@ -24,16 +24,17 @@ enum class Builder {
   lbvh,    // Karras's LBVH from 30-bit Morton codes
   lbvh63,  // the same from 63-bit codes
   ploc,    // PLOC: clusters merged with their nearest neighbours, from 30-bit Morton order
+  hploc,   // H-PLOC: PLOC inside the 30-bit LBVH's subtrees, in one walk up its hierarchy
 };
 // [/listing:builders]
 
 inline constexpr Builder k_all_builders[] = {Builder::cpu_sah, Builder::lbvh, Builder::lbvh63,
-                                             Builder::ploc};
+                                             Builder::ploc, Builder::hploc};
 
 // The name in report rows ("CPU SAH (ch07)", "LBVH", ...).
 const char* to_string(Builder builder);
-// The builder of a name on the command line (cpu_sah, lbvh, lbvh63, ploc); throws UsageError
-// naming them for an unknown one.
+// The builder of a name on the command line (cpu_sah, lbvh, lbvh63, ploc, hploc); throws
+// UsageError naming them for an unknown one.
 Builder parse_builder(std::string_view name);
 
 // A tree and how it was built.

@@ -71,6 +71,24 @@ int ploc_round_bound(long long n);
 // for a radius outside 1..64.
 GpuBuild build_ploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc_radius);
 
+// A warp's lanes, and the most clusters an H-PLOC subtree passes up: half a warp, so that the
+// lists of a node's two children, side by side, fill at most one warp.
+inline constexpr int k_warp_lanes = 32;
+inline constexpr int k_hploc_threshold = k_warp_lanes / 2;
+
+// H-PLOC (Benthin, Meister, Barczak, Parker & Wald 2024) on the resolved backend: one walk up
+// the 30-bit LBVH's hierarchy in which every subtree passes up a list of clusters instead of
+// one node; where a list would grow past `threshold` (at most k_hploc_threshold), and at
+// the root, PLOC's merges (nearest neighbour within `radius`, mutual pairs, the leftmost of
+// equal ones) run inside it until `threshold` clusters are left (one at the root). One
+// triangle per leaf, laid out depth first; both backends give the same tree bit for bit. A
+// threshold of 1 merges every node's two clusters as they come: the LBVH itself. A tree
+// deeper than chapter 07's stack allows is replaced by the 30-bit LBVH (GpuBuild::note says
+// so). Throws InputError as build_lbvh does, and for a radius outside 1..31 or a threshold
+// outside 1..16.
+GpuBuild build_hploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc_radius,
+                     int threshold = k_hploc_threshold);
+
 // New boxes for the same tree after the mesh's vertices moved (same triangles, same vertex
 // count): the triangle copies are taken again from `mesh`, every box is recomputed from the
 // bottom up, and bounds and the SAH cost follow. Any tree in chapter 07's layout that passes

@@ -1,8 +1,8 @@
 // Chapter 10: trees built on the GPU, and scenes that move. By default it loads the course's
 // ~100k-triangle model (or any OBJ file with --scene), builds its tree with every builder
-// (chapter 07's SAH on the CPU, the LBVH of 30- and 63-bit codes, PLOC), reports each build
-// and traces the benchmark protocol's rays through each tree, binary and 4-wide, and renders
-// the shaded image through the LBVH. Other modes:
+// (chapter 07's SAH on the CPU, the LBVH of 30- and 63-bit codes, PLOC, H-PLOC), reports each
+// build and traces the benchmark protocol's rays through each tree, binary and 4-wide, and
+// renders the shaded image through the LBVH. Other modes:
 //   --moving --frames N [--update U]  the moving scene, its tree rebuilt or refitted each frame
 //   --rays FILE --hits FILE           a ray file through --builder's tree, hits to a file
 //   --dump-hits FILE --ray-type T     the protocol's hits of one view through --builder's tree
@@ -176,9 +176,10 @@ int run(ChapterOptions& options) {
 } // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Chapter 10: trees built on the GPU (LBVH, PLOC) against chapter 07's SAH "
-               "build, and a moving scene's tree rebuilt or refitted every frame",
-               "ch10_gpu_build"};
+  CLI::App app{
+      "Chapter 10: trees built on the GPU (LBVH, PLOC, H-PLOC) against chapter 07's SAH "
+      "build, and a moving scene's tree rebuilt or refitted every frame",
+      "ch10_gpu_build"};
   ChapterOptions options;
   ch07::set_tree_program_defaults(options, options.query, "ch10_gpu_build.png", RT_ASSETS_DIR,
                                   RT_MODELS_DIR);
@@ -186,8 +187,8 @@ int main(int argc, char** argv) {
   ch07::add_query_options(app, options.query, "every builder's build and rays");
   app.add_option_function<std::string>(
          "--builder", [&](const std::string& text) { options.builder = parse_builder(text); },
-         "One builder: cpu_sah, lbvh, lbvh63 or ploc (the queries' and the moving scene's "
-         "tree; the measurements then compare it with cpu_sah alone)")
+         "One builder: cpu_sah, lbvh, lbvh63, ploc or hploc (the queries' and the moving "
+         "scene's tree; the measurements then compare it with cpu_sah alone)")
       ->default_str("all (queries and --moving: lbvh)");
   app.add_flag("--moving", options.moving,
                "The moving scene: in the window, its tree updated for every frame drawn "

@@ -47,8 +47,9 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
   for (const char* type : {"primary", "ao", "diffuse"})
-    for (const char* tree : {"CPU SAH (ch07)", "LBVH", "LBVH 63-bit", "PLOC", "PLOC 4-wide",
-                             "LBVH 4-wide (parallel collapse)"})
+    for (const char* tree :
+         {"CPU SAH (ch07)", "LBVH", "LBVH 63-bit", "PLOC", "PLOC 4-wide",
+          "LBVH 4-wide (parallel collapse)", "H-PLOC", "H-PLOC 4-wide (parallel collapse)"})
       CHECK_THAT(run.output,
                  contains(std::string("cornell_room, ") + type + ", " + tree + " "));
   CHECK_THAT(
@@ -73,8 +74,8 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
     CHECK(row.at("metrics").at("differing_from_ch07").get<double>() == 0.0);
     ++traced;
   }
-  CHECK(traced == 36); // 3 ray types x 4 builders x (binary, 4-wide, parallel 4-wide)
-  CHECK(builds == 4);
+  CHECK(traced == 45); // 3 ray types x 5 builders x (binary, 4-wide, parallel 4-wide)
+  CHECK(builds == 5);
 }
 
 TEST_CASE("program: --builder narrows the builds to it and chapter 07's", "[ch10]") {
@@ -108,7 +109,7 @@ TEST_CASE("program: ray files through each built tree give brute force's hits", 
   const std::string ray_file = (folder / "rays.bin").string();
   const std::string hit_file = (folder / "hits.bin").string();
   write_ray_file(ray_file, rays);
-  for (const char* builder : {"lbvh", "lbvh63", "ploc"}) {
+  for (const char* builder : {"lbvh", "lbvh63", "ploc", "hploc"}) {
     CAPTURE(builder);
     const std::vector<MeshHit> hits = rt::testing::hits_from_program(
         run_program, "--scene " + k_room + " --builder " + builder, ray_file, hit_file,

@@ -1,0 +1,386 @@
+// Chapter 10 tests of H-PLOC: one list's merge against a plain PLOC written out here, on the
+// same clusters; trees that pass chapter 07's checker and give brute force's hits; a cost near
+// PLOC's and below the LBVH's; the threshold that makes it the LBVH, and thresholds and radii
+// that change the tree; degenerate input within the depth bound or handed to the LBVH; no ray
+// leaking out of closed meshes; bad input refused. The [gpu] cases: the GPU's tree is the CPU
+// threads', bit for bit.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rt_catch.h"
+
+#include "07_bvh/bvh_cases.h"
+#include "adversarial_rays.h"
+#include "build_cases.h"
+#include "bvh_build.h"
+#include "check_bvh.h"
+#include "collapse.h"
+#include "gpu_build.h"
+#include "gpu_guard.h"
+#include "hploc.h"
+#include "leak_configurations.h"
+#include "rt/error.h"
+#include "wide_collapse.h"
+
+using namespace rt;
+using namespace rt::ch10;
+using namespace rt::ch10::testing;
+
+namespace {
+
+// A node a merge made: its number, its two clusters, its box and its leaves.
+struct MadeNode {
+  int node, left, right;
+  Aabb box;
+  int leaves;
+  bool operator==(const MadeNode& o) const {
+    return node == o.node && left == o.left && right == o.right &&
+           rt::testing::same_bits(box, o.box) && leaves == o.leaves;
+  }
+};
+
+// merge_cluster_list's nodes, numbered from `next` on, kept in the order they are written.
+struct RecordedNodes {
+  int next = 1000;
+  std::vector<MadeNode> made;
+  int reserve(int count) {
+    const int first = next;
+    next += count;
+    return first;
+  }
+  void write(int node, int left, int right, const Aabb& box, int leaves) {
+    made.push_back({node, left, right, box, leaves});
+  }
+};
+
+struct Cluster {
+  int id;
+  Aabb box;
+  int leaves;
+};
+
+// PLOC on one list, written as plainly as it is described: every cluster scans its neighbours
+// within the radius from the left and keeps the first of the cheapest (the leftmost, unless
+// `rightmost` asks for the wrong tie-break); mutual pairs merge into the left one's place, in
+// list order; repeat until `target` are left.
+std::vector<MadeNode> plain_ploc(std::vector<Cluster>& list, int target, int radius,
+                                 bool rightmost = false) {
+  std::vector<MadeNode> made;
+  int next = 1000;
+  while (static_cast<int>(list.size()) > target) {
+    const int count = static_cast<int>(list.size());
+    std::vector<int> nearest(count, -1);
+    for (int i = 0; i < count; ++i) {
+      float best = 0.0f;
+      for (int j = std::max(0, i - radius); j <= std::min(count - 1, i + radius); ++j) {
+        if (j == i) continue;
+        Aabb merged = list[std::min(i, j)].box;
+        merged.grow(list[std::max(i, j)].box);
+        float cost = merged.half_area();
+        if (std::isnan(cost)) cost = std::numeric_limits<float>::infinity();
+        if (nearest[i] < 0 || cost < best || (rightmost && cost == best)) {
+          best = cost;
+          nearest[i] = j;
+        }
+      }
+    }
+    std::vector<Cluster> next_list;
+    for (int i = 0; i < count; ++i) {
+      const int j = nearest[i];
+      const bool mutual = j >= 0 && nearest[j] == i;
+      if (mutual && i > j) continue;
+      if (!mutual) {
+        next_list.push_back(list[i]);
+        continue;
+      }
+      Aabb box = list[i].box;
+      box.grow(list[j].box);
+      const MadeNode node{next++, list[i].id, list[j].id, box, list[i].leaves + list[j].leaves};
+      made.push_back(node);
+      next_list.push_back({node.node, box, node.leaves});
+    }
+    list = next_list;
+  }
+  return made;
+}
+
+// A list of `count` random boxes; with `ties`, a few shapes repeated, so that costs tie.
+std::vector<Cluster> random_clusters(std::mt19937& rng, int count, bool ties) {
+  std::uniform_real_distribution<float> where(-10.0f, 10.0f), size(0.01f, 2.0f);
+  std::vector<Cluster> list;
+  for (int k = 0; k < count; ++k) {
+    Vec3f lo{where(rng), where(rng), where(rng)};
+    if (ties) lo = {float(k % 3), 0.0f, 0.0f};
+    const Vec3f hi =
+        lo + (ties ? Vec3f{1.0f, 1.0f, 1.0f} : Vec3f{size(rng), size(rng), size(rng)});
+    Aabb box;
+    box.grow(lo);
+    box.grow(hi);
+    list.push_back({k, box, 1 + k % 5});
+  }
+  return list;
+}
+
+ClusterList to_lanes(const std::vector<Cluster>& list) {
+  ClusterList lanes;
+  for (const Cluster& c : list) {
+    lanes.id[lanes.count] = c.id;
+    lanes.box[lanes.count] = c.box;
+    lanes.leaves[lanes.count] = c.leaves;
+    ++lanes.count;
+  }
+  return lanes;
+}
+
+std::vector<int> ids_of(const ClusterList& lanes) { return {lanes.id, lanes.id + lanes.count}; }
+std::vector<int> ids_of(const std::vector<Cluster>& list) {
+  std::vector<int> ids;
+  for (const Cluster& c : list) ids.push_back(c.id);
+  return ids;
+}
+
+bool same_tree(const ch07::Bvh& a, const ch07::Bvh& b) {
+  return rt::testing::same_bits(a.nodes, b.nodes) && a.triangle_ids == b.triangle_ids &&
+         rt::testing::same_bits(a.triangles, b.triangles);
+}
+
+// A soup spread over almost the whole float range: areas overflow to infinity, and a flat
+// box's inf * 0 is NaN.
+Mesh huge_soup() {
+  Mesh mesh = rt::testing::random_soup(2000, 61, {{}, 1e38f, 1e35f, 1e37f});
+  for (int k = 0; k < 20; ++k) add_point_triangle(mesh, {float(k) * 1e37f, 0.0f, 0.0f});
+  return mesh;
+}
+
+} // namespace
+
+TEST_CASE("the n-th set bit of a lane mask, by binary search, is the counted one",
+          "[ch10][hploc]") {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const unsigned mask = trial == 0   ? ~0u
+                          : trial == 1 ? 1u << 31
+                                       : static_cast<unsigned>(rng());
+    int p = 0;
+    for (int lane = 0; lane < k_warp_lanes; ++lane)
+      if ((mask >> lane & 1u) != 0) CHECK(nth_set_bit(mask, p++) == lane);
+    CHECK(p == count_bits(mask));
+  }
+}
+
+TEST_CASE("one list's merge is a plain PLOC's on the same clusters", "[ch10][hploc]") {
+  std::mt19937 rng(7);
+  int compared = 0;
+  for (const bool ties : {false, true})
+    for (const int count : {2, 3, 17, 31, 32})
+      for (const int target : {1, 8, k_hploc_threshold})
+        for (const int radius : {1, 3, k_ploc_radius, k_warp_lanes - 1}) {
+          if (target >= count) continue;
+          CAPTURE(ties, count, target, radius);
+          std::vector<Cluster> list = random_clusters(rng, count, ties);
+          ClusterList lanes = to_lanes(list);
+          RecordedNodes nodes;
+          merge_cluster_list(lanes, target, radius, nodes);
+          const std::vector<MadeNode> expected = plain_ploc(list, target, radius);
+          CHECK(nodes.made == expected);
+          CHECK(ids_of(lanes) == ids_of(list));
+          CHECK(lanes.count <= target);
+          CHECK(lanes.count >= 1);
+          ++compared;
+        }
+  CHECK(compared > 80);
+  // The test sees a tie-break: on boxes of three repeated shapes the rightmost of equal costs
+  // merges other pairs than the leftmost.
+  std::vector<Cluster> list = random_clusters(rng, 32, true);
+  std::vector<Cluster> wrong = list;
+  ClusterList lanes = to_lanes(list);
+  RecordedNodes nodes;
+  merge_cluster_list(lanes, 1, k_ploc_radius, nodes);
+  CHECK(!(nodes.made == plain_ploc(wrong, 1, k_ploc_radius, true)));
+  CHECK(nodes.made == plain_ploc(list, 1, k_ploc_radius));
+}
+
+TEST_CASE("H-PLOC trees pass chapter 07's checker and give brute force's hits",
+          "[ch10][hploc]") {
+  for (const Vec3f centre : {Vec3f{}, Vec3f{-1e5f, 2e4f, 1e5f}}) {
+    CAPTURE(centre.x);
+    Mesh mesh = rt::testing::mixed_scene(3000, 13);
+    for (Vec3f& v : mesh.vertices) v = v + centre;
+    const GpuBuild hploc = build_hploc(Backend::cpu, mesh);
+    CHECK(ch07::check_bvh(hploc.bvh, mesh).empty());
+    CHECK(hploc.note.empty());
+    CHECK(hploc.bvh.stats.leaves == static_cast<int>(mesh.triangles.size()));
+    CHECK(hploc.bvh.options.max_leaf_size == 1);
+    const auto rays = rt::testing::random_rays(3000, 19, centre, 10.0f);
+    CHECK(brute_force_mismatches(hploc.bvh.view(), mesh, rays) == 0);
+  }
+}
+
+TEST_CASE("the CPU threads build the same H-PLOC tree every time", "[ch10][hploc]") {
+  // Node numbers come from an atomic counter in whatever order the threads reach it; the
+  // tree laid out depth first does not depend on them.
+  const Mesh mesh = rt::testing::random_soup(20000, 17);
+  const GpuBuild a = build_hploc(Backend::cpu, mesh);
+  for (int run = 0; run < 3; ++run)
+    CHECK(same_tree(build_hploc(Backend::cpu, mesh).bvh, a.bvh));
+}
+
+TEST_CASE("H-PLOC's SAH cost is near PLOC's and below the LBVH's", "[ch10][hploc]") {
+  // Measured: H-PLOC 89.9 and 88.8, PLOC 89.5 and 88.8, the LBVH 95.4 and 94.9.
+  for (const unsigned seed : {23u, 29u}) {
+    CAPTURE(seed);
+    const Mesh mesh = rt::testing::mixed_scene(6000, seed);
+    const double hploc = build_hploc(Backend::cpu, mesh).bvh.stats.sah_cost;
+    const double ploc = build_ploc(Backend::cpu, mesh).bvh.stats.sah_cost;
+    const double lbvh = build_lbvh(Backend::cpu, mesh, CodeWidth::bits30).bvh.stats.sah_cost;
+    CAPTURE(hploc, ploc, lbvh);
+    CHECK(hploc < 1.01 * ploc);
+    CHECK(hploc < 0.96 * lbvh);
+  }
+}
+
+TEST_CASE("a threshold of one is the LBVH, other thresholds and radii other trees",
+          "[ch10][hploc]") {
+  const Mesh mesh = rt::testing::mixed_scene(4000, 31);
+  // Every node merges its children's single clusters as they come, left and right.
+  const GpuBuild one = build_hploc(Backend::cpu, mesh, k_ploc_radius, 1);
+  const GpuBuild lbvh = build_lbvh(Backend::cpu, mesh, CodeWidth::bits30);
+  CHECK(same_tree(one.bvh, lbvh.bvh));
+  const GpuBuild full = build_hploc(Backend::cpu, mesh);
+  const GpuBuild half = build_hploc(Backend::cpu, mesh, k_ploc_radius, 8);
+  const GpuBuild near = build_hploc(Backend::cpu, mesh, 1);
+  for (const GpuBuild* other : {&one, &half, &near}) {
+    CHECK(ch07::check_bvh(other->bvh, mesh).empty());
+    CHECK(!same_tree(other->bvh, full.bvh));
+  }
+  // Lists to choose from beat the LBVH's splits (not always the longer the better: measured
+  // 71.5 at 16, 70.6 at 8, 76.7 at 1).
+  CHECK(full.bvh.stats.sah_cost < 0.96 * one.bvh.stats.sah_cost);
+  CHECK(half.bvh.stats.sah_cost < 0.96 * one.bvh.stats.sah_cost);
+}
+
+TEST_CASE("degenerate input: within the depth bound, or the LBVH with a note",
+          "[ch10][hploc]") {
+  struct Case {
+    const char* name;
+    Mesh mesh;
+  };
+  const Case cases[] = {
+      {"two triangles", identical_triangles(2)},
+      {"three triangles", identical_triangles(3)},
+      {"seventeen identical", identical_triangles(17)},
+      {"4096 identical", identical_triangles(4096)},
+      {"powers of two", power_of_two_chain(4096)},
+      {"collinear", collinear_triangles(5000)},
+      {"ever wider spaced", exponentially_spaced_triangles(480)},
+      {"huge coordinates", huge_soup()},
+  };
+  int fell_back = 0;
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    const GpuBuild hploc = build_hploc(Backend::cpu, c.mesh);
+    CHECK(ch07::check_bvh(hploc.bvh, c.mesh).empty());
+    CHECK(hploc.bvh.stats.depth <= ch07::k_max_bvh_depth - 1);
+    if (!hploc.note.empty()) {
+      ++fell_back;
+      CHECK(same_tree(hploc.bvh, build_lbvh(Backend::cpu, c.mesh, CodeWidth::bits30).bvh));
+    }
+  }
+  // Identical boxes tie everywhere: the leftmost pair merges, one a step, and the list's first
+  // cluster swallows the rest, a chain that grows at every level above; the LBVH takes over.
+  const GpuBuild identical = build_hploc(Backend::cpu, identical_triangles(4096));
+  CHECK(!identical.note.empty());
+  CHECK(fell_back >= 1);
+  // The smallest inputs keep H-PLOC's tree.
+  CHECK(build_hploc(Backend::cpu, identical_triangles(3)).note.empty());
+  for (const Mesh& mesh : {rt::testing::single_triangle(), Mesh{}}) {
+    const GpuBuild tiny = build_hploc(Backend::cpu, mesh);
+    CHECK(ch07::check_bvh(tiny.bvh, mesh).empty());
+  }
+}
+
+TEST_CASE("no ray leaks out of a closed mesh through H-PLOC's tree", "[ch10][hploc]") {
+  for (const ch04::LeakConfiguration& config : ch04::k_leak_configurations) {
+    CAPTURE(config.name);
+    const Mesh mesh = config.make_mesh();
+    const std::vector<RayF> rays = ch04::rays_at_vertices_and_edges(
+        mesh, config.inside(), config.spread, 20000, config.seed);
+    const ch07::Bvh tree = build_hploc(Backend::cpu, mesh).bvh;
+    CHECK(ch07::check_bvh(tree, mesh).empty());
+    int leaks = 0, any_leaks = 0;
+    for (const RayF& ray : rays) {
+      leaks += ch07::trace_bvh<ch07::Query::closest, ch04::TriangleVariant::watertight>(
+                   tree.view(), ray)
+                   .triangle < 0;
+      any_leaks +=
+          ch07::trace_bvh<ch07::Query::any, ch04::TriangleVariant::watertight>(tree.view(), ray)
+              .triangle < 0;
+    }
+    CHECK(leaks == 0);
+    CHECK(any_leaks == 0);
+  }
+}
+
+TEST_CASE("H-PLOC refuses bad input with one line", "[ch10][hploc]") {
+  Mesh nan_vertex = rt::testing::random_soup(100, 3);
+  nan_vertex.vertices[57].y = std::numeric_limits<float>::quiet_NaN();
+  CHECK_THROWS_WITH(build_hploc(Backend::cpu, nan_vertex),
+                    Catch::Matchers::Contains("triangle 19: vertex 57 is not finite"));
+  const Mesh mesh = identical_triangles(4);
+  CHECK_THROWS_WITH(build_hploc(Backend::cpu, mesh, 0),
+                    Catch::Matchers::Contains("H-PLOC radius 0: it takes 1 to 31"));
+  CHECK_THROWS_AS(build_hploc(Backend::cpu, mesh, k_warp_lanes), InputError);
+  CHECK_THROWS_WITH(build_hploc(Backend::cpu, mesh, k_ploc_radius, 0),
+                    Catch::Matchers::Contains("H-PLOC threshold 0: it takes 1 to 16"));
+  CHECK_THROWS_AS(build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold + 1),
+                  InputError);
+}
+
+TEST_CASE("the GPU's H-PLOC tree is the CPU's, bit for bit", "[ch10][hploc][gpu]") {
+  RT_REQUIRE_GPU();
+  struct Case {
+    Mesh mesh;
+    int threshold;
+  };
+  // Many warps: the scenes of 20 000 and 300 000 triangles run thousands of them, their
+  // merges racing for node numbers.
+  const std::vector<Case> cases = {
+      {rt::testing::mixed_scene(20000, 41), k_hploc_threshold},
+      {rt::testing::random_soup(300000, 43, Vec3f{1e5f, 0.0f, -3e4f}), k_hploc_threshold},
+      {rt::testing::mixed_scene(20000, 41), 8},
+      {rt::testing::mixed_scene(20000, 41), 1},
+      {identical_triangles(3000), k_hploc_threshold},
+      {identical_triangles(17), k_hploc_threshold},
+      {power_of_two_chain(4096), k_hploc_threshold},
+      {collinear_triangles(100000), k_hploc_threshold},
+      {huge_soup(), k_hploc_threshold},
+      {rt::testing::single_triangle(), k_hploc_threshold},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.mesh.triangles.size(), c.threshold);
+    const GpuBuild gpu = build_hploc(Backend::gpu, c.mesh, k_ploc_radius, c.threshold);
+    const GpuBuild cpu = build_hploc(Backend::cpu, c.mesh, k_ploc_radius, c.threshold);
+    CHECK(ch07::check_bvh(gpu.bvh, c.mesh).empty());
+    CHECK(same_tree(gpu.bvh, cpu.bvh));
+    CHECK(rt::testing::same_bits(gpu.bvh.bounds, cpu.bvh.bounds));
+    CHECK(gpu.note == cpu.note);
+    // And again: another run, other node numbers, the same tree.
+    CHECK(
+        same_tree(build_hploc(Backend::gpu, c.mesh, k_ploc_radius, c.threshold).bvh, gpu.bvh));
+  }
+}
+
+TEST_CASE("the GPU's collapse of H-PLOC's tree is the CPU's", "[ch10][hploc][gpu]") {
+  RT_REQUIRE_GPU();
+  const Mesh mesh = rt::testing::mixed_scene(20000, 73);
+  const ch07::Bvh binary = build_hploc(Backend::gpu, mesh).bvh;
+  const ch09::Wide4PackedBvh gpu = collapse_to_wide4(Backend::gpu, binary);
+  const ch09::Wide4PackedBvh cpu = collapse_to_wide4(Backend::cpu, binary);
+  CHECK(ch09::check_wide_tree(gpu, mesh).empty());
+  CHECK(rt::testing::same_bits(gpu.nodes, cpu.nodes));
+  CHECK(rt::testing::same_bits(gpu.triangles, cpu.triangles));
+}
