@@ -66,7 +66,8 @@ struct MovingFrames::State {
   unsigned features;
   BackendArray<Vec3f> rest, vertices;
   BackendArray<IndexedTriangle> triangles;
-  std::optional<ch06::DeviceShadedScene> d_scene;
+  std::optional<ch06::DeviceShadedScene> d_scene; // for the shaded frames (a renderer of its
+                                                  // own that calls move() uploads none)
   LbvhOnBackend lbvh;
   WideCollapse collapse;
   std::optional<TreeArrays> host_built; // another builder's tree, built on the host
@@ -81,9 +82,7 @@ struct MovingFrames::State {
         rest(b, std::span<const Vec3f>(rest_pose)),
         vertices(b, std::span<const Vec3f>(scene.mesh.vertices)),
         triangles(b, std::span<const IndexedTriangle>(scene.mesh.triangles)), lbvh(b, mesh()),
-        collapse(b, mesh().triangle_count), clock(b, 5) {
-    if (b == Backend::gpu) d_scene.emplace(scene, features);
-  }
+        collapse(b, mesh().triangle_count), clock(b, 5) {}
 
   TreeArrays& tree() { return host_built ? *host_built : lbvh.tree(); }
 
@@ -97,6 +96,29 @@ struct MovingFrames::State {
     ch04::Mesh now = scene.mesh;
     now.vertices = vertices.to_host();
     host_built = upload_tree(backend, build_tree(builder, backend, now).bvh);
+  }
+
+  // The frame's first parts, marks 0 to 3 between them: the vertices moved to `time`, the
+  // tree built or refitted, collapsed. Queued; nothing waits.
+  void advance(double time, Update update) {
+    clock.mark(0);
+    for_each_index(backend, static_cast<int>(vertices.size()),
+                   MoveVertices{rest.data(), detail, model_vertices, sphere_vertices,
+                                float(time), vertices.data()});
+    clock.mark(1);
+    if (update == Update::refit && built)
+      refit_tree(backend, tree(), mesh());
+    else
+      build();
+    built = true;
+    clock.mark(2);
+    collapse.run(tree());
+    clock.mark(3);
+  }
+  // Their times, read after the marks (on the GPU, waiting for the last).
+  FrameParts parts() {
+    return {clock.milliseconds_between(0, 1), clock.milliseconds_between(1, 2),
+            clock.milliseconds_between(2, 3), 0.0};
   }
 
   MeshView mesh() {
@@ -131,26 +153,25 @@ MovingFrames::~MovingFrames() = default;
 FrameParts MovingFrames::frame(double time, Update update, const ch03::Camera<float>& camera,
                                Extent extent, Rgba8* pixels) {
   State& s = *state_;
-  s.clock.mark(0);
-  for_each_index(s.backend, static_cast<int>(s.vertices.size()),
-                 MoveVertices{s.rest.data(), s.detail, s.model_vertices, s.sphere_vertices,
-                              float(time), s.vertices.data()});
-  s.clock.mark(1);
-  if (update == Update::refit && s.built)
-    refit_tree(s.backend, s.tree(), s.mesh());
-  else
-    s.build();
-  s.built = true;
-  s.clock.mark(2);
-  s.collapse.run(s.tree());
-  s.clock.mark(3);
+  if (s.backend == Backend::gpu && !s.d_scene) s.d_scene.emplace(s.scene, s.features);
+  s.advance(time, update);
   ch09::render_wide_shaded(s.backend, s.features,
                            ch09::with_wide(s.scene_view(), s.collapse.view()), camera, extent,
                            pixels);
   s.clock.mark(4);
-  return {s.clock.milliseconds_between(0, 1), s.clock.milliseconds_between(1, 2),
-          s.clock.milliseconds_between(2, 3), s.clock.milliseconds_between(3, 4)};
+  FrameParts parts = s.parts();
+  parts.render_ms = s.clock.milliseconds_between(3, 4);
+  return parts;
 }
+
+FrameParts MovingFrames::move(double time, Update update) {
+  state_->advance(time, update);
+  return state_->parts();
+}
+
+ch04::MeshView MovingFrames::mesh() const { return state_->mesh(); }
+
+ch09::Wide4PackedBvh::View MovingFrames::wide_view() const { return state_->collapse.view(); }
 
 std::vector<Vec3f> MovingFrames::vertices() const { return state_->vertices.to_host(); }
 

@@ -39,6 +39,15 @@ public:
   FrameParts frame(double time, Update update, const ch03::Camera<float>& camera, Extent extent,
                    Rgba8* pixels);
 
+  // The frame's first three parts alone, for a renderer of its own (chapter 11's path
+  // tracer): the vertices moved to `time`, the tree updated and collapsed, in the arrays that
+  // mesh() and wide_view() point at; render_ms is 0. On the GPU nothing waits but the clock.
+  FrameParts move(double time, Update update);
+  // Where the moved scene lives (backend pointers): the same arrays every frame, rewritten in
+  // place, so that a view made once follows the scene.
+  ch04::MeshView mesh() const;
+  ch09::Wide4PackedBvh::View wide_view() const;
+
   // What the last frame made, copied to the host (for reports and tests).
   std::vector<Vec3f> vertices() const;
   ch07::Bvh binary_tree() const; // stats filled

@@ -5,6 +5,8 @@
 // the image and the window: the GPU's fastest) and the wavefront stages. --output x.png is the
 // tone-mapped picture, x.pfm and x.exr the mean radiance itself. Other modes:
 //   --window          progressive display; moving the camera starts the sums again
+//   --moving          chapter 10's moving scene (or --scene's model waving), moved and its
+//                     tree built on the backend every frame, one sample per pixel each
 //   --convergence     error against run time at 1, 2, 4, ... --spp samples per pixel, against
 //                     a float64 reference of --reference-spp samples, for every strategy
 //                     (with --samplers, for every sampler)
@@ -16,6 +18,7 @@
 
 #include "animation.h"
 #include "camera_cli.h"
+#include "moving_path.h"
 #include "path_render.h"
 #include "path_report.h"
 #include "program.h"
@@ -42,8 +45,9 @@ struct ChapterOptions : ch03::ProgramOptions {
   double sky = -1.0; // grey sky radiance; < 0: 1 for a scene without emitters, else none
   std::optional<Vec3d> sun;
   double sun_irradiance = 3.0;
-  bool moving = false; // chapter 10's moving scene, its tree built again every frame
+  bool moving = false; // chapter 10's moving scene, moved on the backend every frame
   int detail = 316;    // its torus's segments around
+  std::shared_ptr<const ch04::Mesh> model; // --moving --scene: fitted, in the torus's place
   bool up_given = false;
 };
 
@@ -72,7 +76,7 @@ bool is_course_room(const std::string& path) {
 // outside (frame_from_outside).
 PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   long long defaulted = 0;
-  PathScene scene = options.moving ? moving_path_scene(0.0, options.detail)
+  PathScene scene = options.moving ? moving_path_scene(0.0, options.detail, options.model.get())
                                    : load_path_scene(options.scene_path, &defaulted);
   for (const std::string& warning : scene.warnings) warn(warning);
   if (defaulted > 0)
@@ -97,7 +101,8 @@ PathScene load_scene(const ChapterOptions& options, CameraSpec& camera) {
   // view from inside, so that the figures compare with chapters 07 to 10; other models are
   // framed from outside.
   const bool room = !options.moving && is_course_room(options.scene_path);
-  const std::optional<ch07::ProtocolView> interior = ch07::interior_view(options.scene_path);
+  const std::optional<ch07::ProtocolView> interior =
+      options.moving ? std::nullopt : ch07::interior_view(options.scene_path);
   CameraSpec framed =
       frame_from_outside(scene.mesh, camera.fov_degrees, options.common.extent());
   if (room) framed = ch11::cornell_camera();
@@ -145,21 +150,27 @@ int run(ChapterOptions& options) {
 
   Report report = start_report("Chapter 11: progressive path tracing", "Mpaths/s",
                                "the first row's sums after the same samples", backend);
-  std::optional<PathRenderer> renderer; // made for the first frame
+  // Made for the first frame: a moving scene's renderer keeps its scene on the backend and
+  // moves it there (moving_path.h).
+  std::unique_ptr<PathRenderer> renderer;
+  MovingPathRenderer* moving = nullptr; // the same renderer, with --moving
   ShownView shown;
   const auto renderer_for = [&](Backend b) -> PathRenderer& {
-    if (!renderer)
-      renderer.emplace(scene, b, options.moving ? TreeBuild::lbvh : TreeBuild::sah);
+    if (!renderer && options.moving) {
+      auto made =
+          std::make_unique<MovingPathRenderer>(scene, b, options.detail, options.model.get());
+      moving = made.get();
+      renderer = std::move(made);
+    }
+    if (!renderer) renderer = std::make_unique<PathRenderer>(scene, b);
     return *renderer;
   };
   // The headless image's samples, for the PNG or the linear file.
   const auto render_image = [&]() -> PathRenderer& {
     PathRenderer& r = renderer_for(backend);
-    if (options.moving) // the animation's last frame
-      r.move_vertices(moving_path_scene((moving_frame_count(options.common.frames) - 1) *
-                                            ch10::k_seconds_per_frame,
-                                        options.detail)
-                          .mesh.vertices);
+    if (moving) // the animation's last frame
+      moving->move_to((moving_frame_count(options.common.frames) - 1) *
+                      ch10::k_seconds_per_frame);
     r.restart(camera, options.common.extent());
     const SamplesTaken taken =
         add_image_samples(r, options.settings, options.spp, options.seconds);
@@ -181,10 +192,8 @@ int run(ChapterOptions& options) {
       .render =
           [&](Backend b, const CameraSpec& spec, Extent extent, Rgba8* pixels) {
             PathRenderer& r = renderer_for(b);
-            if (options.moving) { // the scene moved: a new tree, the sums start again
-              r.move_vertices(
-                  moving_path_scene(frame++ * ch10::k_seconds_per_frame, options.detail)
-                      .mesh.vertices);
+            if (moving) { // the scene moved on the backend: a new tree, the sums start again
+              moving->move_to(frame++ * ch10::k_seconds_per_frame);
               shown.reset();
             }
             add_window_frame(r, shown, spec, extent, options.settings, float(options.exposure),
@@ -201,12 +210,13 @@ int run(ChapterOptions& options) {
                              group_digits(std::ssize(scene.mesh.triangles)) + " triangles, " +
                              group_digits(std::ssize(scene.lights.triangles)) + " emitting");
             rows.add_context("features", describe_path_features(features_used(scene)));
-            if (options.moving)
-              add_moving_rows(renderer_for(backend), options.settings, options.detail, camera,
-                              options.common.extent(), options.common.frames, rows);
+            PathRenderer& r = renderer_for(backend); // and, with --moving, `moving` set
+            if (moving)
+              add_moving_rows(*moving, options.settings, camera, options.common.extent(),
+                              options.common.frames, rows);
             else
-              add_kernel_rows(renderer_for(backend), options.settings, camera,
-                              options.common.extent(), options.common.frames, rows);
+              add_kernel_rows(r, options.settings, camera, options.common.extent(),
+                              options.common.frames, rows);
           },
       .image = [&] { return render_image().image(float(options.exposure)); },
       .linear_image =
@@ -222,9 +232,11 @@ int run(ChapterOptions& options) {
 // Flags the run would not read, refused in one line rather than ignored.
 void refuse_ignored_flags(const CLI::App& app, const ChapterOptions& options) {
   const auto given = [&](const char* flag) { return app.count(flag) > 0; };
-  if (options.moving && (given("--scene") || options.convergence))
-    throw UsageError("--moving renders chapter 10's scene: not with --scene or --convergence");
+  if (options.moving && options.convergence)
+    throw UsageError("--moving renders frames of a moving scene: not with --convergence");
   if (!options.moving && given("--detail")) throw UsageError("--detail goes with --moving");
+  if (options.moving && given("--scene") && given("--detail"))
+    throw UsageError("--detail sizes the torus: not with --scene, whose model takes its place");
   if (given("--sun-irradiance") && !options.sun)
     throw UsageError("--sun-irradiance is the sun's: give --sun too");
   refuse_progressive_flags(app, options, options.convergence);
@@ -286,11 +298,11 @@ int main(int argc, char** argv) {
   app.add_option("--sun-irradiance", options.sun_irradiance, "The sun's irradiance")
       ->check(finite_range(0.0, k_max_light))
       ->capture_default_str();
-  app.add_flag(
-      "--moving", options.moving,
-      "Chapter 10's moving scene instead of --scene, its tree built on the backend for "
-      "every frame (chapter 10's LBVH and collapse) and the sums started again; "
-      "headless, --frames frames of it, the image the last one's");
+  app.add_flag("--moving", options.moving,
+               "Chapter 10's moving scene, moved on the backend every frame (its vertices, "
+               "chapter 10's LBVH and collapse) and the sums started again; with --scene, "
+               "that model waving in the torus's place; headless, --frames frames of it, the "
+               "image the last one's");
   app.add_option("--detail", options.detail,
                  "With --moving: the torus's segments around (detail^2 triangles, at most " +
                      std::to_string(ch10::k_max_moving_detail) + ": 10 million triangles)")
@@ -303,6 +315,9 @@ int main(int argc, char** argv) {
   return ch03::run_program_main(app, argc, argv, options, [&] {
     options.up_given = app.count("--up") > 0;
     refuse_ignored_flags(app, options);
+    if (options.moving && app.count("--scene") > 0) // as chapter 10's --moving --scene
+      options.model = std::make_shared<const ch04::Mesh>(
+          ch10::fit_moving_model(ch05::load_obj(options.scene_path).geometry));
     return run(options);
   });
 }

@@ -253,6 +253,9 @@ PathRenderer::PathRenderer(const PathScene& scene, Backend backend, TreeBuild bu
   upload();
 }
 
+PathRenderer::PathRenderer(Backend backend, unsigned features)
+    : ProgressiveRenderer(backend, features) {}
+
 void PathRenderer::move_vertices(const std::vector<Vec3f>& vertices) {
   if (vertices.size() != scene_.mesh.vertices.size())
     throw InputError("move_vertices: " + std::to_string(vertices.size()) +

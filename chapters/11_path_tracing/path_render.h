@@ -135,11 +135,20 @@ public:
   PathRenderer(const PathScene& scene, Backend backend, TreeBuild build = TreeBuild::sah);
   ~PathRenderer() override;
 
-  // The scene moved: the same triangles and materials at new vertices. The tree is built again
-  // and the light table made again; the sums are emptied (the camera and first sample kept).
-  // Throws InputError for another vertex count.
+  // The scene moved on the host: the same triangles and materials at new vertices, sent to
+  // the backend. The tree is built again and the light table made again; the sums are emptied
+  // (the camera and first sample kept). A scene that moves on the backend itself is
+  // MovingPathRenderer's (moving_path.h). Throws InputError for another vertex count.
   void move_vertices(const std::vector<Vec3f>& vertices);
   int registers(const RenderSettings& settings) const override;
+
+protected:
+  // A renderer whose scene lives elsewhere, in arrays on the backend that the derived class
+  // owns and points view_ at (MovingPathRenderer, moving_path.h): nothing is built or
+  // uploaded here.
+  PathRenderer(Backend backend, unsigned features);
+
+  PathSceneView view_{}; // what the kernels read
 
 private:
   WavefrontPass accumulate(const RenderSettings& settings, unsigned first, int samples,
@@ -148,10 +157,9 @@ private:
   void upload(); // the scene and tree to the backend, and view_ made for them
 
   PathScene scene_; // a copy: the host view points into it
-  TreeBuild build_;
+  TreeBuild build_ = TreeBuild::sah;
   PathTree tree_;
-  std::unique_ptr<struct DevicePathScene> device_; // on the GPU backend
-  PathSceneView view_{};
+  std::unique_ptr<struct DevicePathScene> device_;          // on the GPU backend
   std::unique_ptr<BasicWavefrontQueues<PathState>> queues_; // for the first wavefront samples
 };
 

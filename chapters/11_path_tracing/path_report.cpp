@@ -76,44 +76,45 @@ void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settin
   }
 }
 
-void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int detail,
+void add_moving_rows(MovingPathRenderer& renderer, const RenderSettings& settings,
                      const CameraSpec& camera, Extent extent, int frames, Report& report,
                      std::ostream& progress, std::chrono::milliseconds period) {
   frames = moving_frame_count(frames);
-  double tree_ms = 0.0, sample_ms = 0.0;
+  double animate = 0, tree = 0, collapse = 0, render = 0, wall = 0;
   renderer.restart(camera, extent);
+  BackendClock clock(renderer.backend(), 2); // around the sample
   const CpuWorkName name("moving scene");
   CpuProgress line(frames, "frames", progress, period);
   for (int f = 0; f < frames; ++f) {
-    const std::vector<Vec3f> moved = moving_path_scene(f * ch10::k_seconds_per_frame, detail)
-                                         .mesh.vertices; // the host's reference
-    auto start = std::chrono::steady_clock::now();
-    renderer.move_vertices(moved);
-    renderer.synchronize();
-    auto done = std::chrono::steady_clock::now();
-    tree_ms += std::chrono::duration<double, std::milli>(done - start).count();
-    start = done;
+    const auto start = std::chrono::steady_clock::now();
+    const ch10::FrameParts parts = renderer.move_to(f * ch10::k_seconds_per_frame);
+    clock.mark(0);
     renderer.add_samples(settings, 1);
-    renderer.synchronize();
-    sample_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count();
+    clock.mark(1);
+    render += clock.milliseconds_between(0, 1); // waits for the sample
+    wall += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
+    animate += parts.animate_ms, tree += parts.tree_ms, collapse += parts.collapse_ms;
     line.update(f + 1);
   }
-  const double ms = (tree_ms + sample_ms) / frames;
-  report.add_row({describe(settings) + ", moving: tree every frame",
-                  to_string(renderer.backend()),
-                  ms,
-                  double(extent.pixel_count()) / (ms * 1e3),
-                  format_fixed(tree_ms / frames, 2) +
-                      " ms tree (the LBVH and collapse, copies included) + " +
-                      format_fixed(sample_ms / frames, 2) + " ms sample, wall clock, over " +
-                      std::to_string(frames) + " frames; " +
-                      group_digits(static_cast<long long>(renderer.non_finite())) +
-                      " NaN/Inf samples in the last",
-                  {{"tree_ms", tree_ms / frames},
-                   {"sample_ms", sample_ms / frames},
-                   {"non_finite", double(renderer.non_finite())}}});
+  const double n = frames, ms = (animate + tree + collapse + render) / n;
+  const double non_finite = double(renderer.non_finite());
+  report.add_row(
+      {describe(settings) + ", moving: tree every frame, on the backend",
+       to_string(renderer.backend()),
+       ms,
+       double(extent.pixel_count()) / (ms * 1e3),
+       format_fixed(animate / n, 2) + " ms animate + " + format_fixed(tree / n, 2) +
+           " ms tree + " + format_fixed(collapse / n, 2) + " ms collapse + " +
+           format_fixed(render / n, 2) + " ms render; " + format_fixed(1e3 * n / wall, 1) +
+           " frames/s wall clock over " + std::to_string(frames) + " frames; " +
+           group_digits(static_cast<long long>(non_finite)) + " NaN/Inf samples in the last",
+       {{"animate_ms", animate / n},
+        {"tree_ms", tree / n},
+        {"collapse_ms", collapse / n},
+        {"render_ms", render / n},
+        {"wall_fps", 1e3 * n / wall},
+        {"non_finite", non_finite}}});
 }
 
 SamplesTaken add_image_samples(ProgressiveRenderer& renderer, const RenderSettings& settings,

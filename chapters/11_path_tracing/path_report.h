@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "convergence.h"
+#include "moving_path.h"
 #include "path_render.h"
 #include "rt/backend.h"
 #include "rt/report.h"
@@ -20,11 +21,13 @@ namespace rt::ch11 {
 void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settings,
                      const CameraSpec& camera, Extent extent, int frames, Report& report);
 
-// --moving: `frames` frames of chapter 10's moving scene (60 for 0), each its vertices moved,
-// its tree built again on the backend and one sample per pixel by `settings`; the row gives the
-// mean wall time of the two parts. A progress line every `period` on `progress` counts the
-// frames ("moving scene: 37% (37000 of 100000 frames), 15 s").
-void add_moving_rows(PathRenderer& renderer, const RenderSettings& settings, int detail,
+// --moving: `frames` frames of the renderer's moving scene (60 for 0), each moved on the
+// backend (its vertices, its tree built and collapsed) and given one sample per pixel by
+// `settings`. The row gives a frame's mean time and its four parts, as chapter 10's report
+// does: animate, tree, collapse and render (GPU: CUDA events between them; CPU: wall time),
+// and the frames per second by the wall clock. A progress line every `period` on `progress`
+// counts the frames ("moving scene: 37% (37000 of 100000 frames), 15 s").
+void add_moving_rows(MovingPathRenderer& renderer, const RenderSettings& settings,
                      const CameraSpec& camera, Extent extent, int frames, Report& report,
                      std::ostream& progress = std::cerr,
                      std::chrono::milliseconds period = std::chrono::seconds(5));

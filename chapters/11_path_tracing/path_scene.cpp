@@ -176,17 +176,20 @@ CameraSpec frame_from_outside(const ch04::Mesh& mesh, double fov_degrees, Extent
   return camera;
 }
 
-PathScene moving_path_scene(double time, int detail) {
-  const ch05::ObjMesh obj = ch10::moving_scene_at(time, detail);
+PathScene moving_path_scene(double time, int detail, const ch04::Mesh* model) {
+  const ch05::ObjMesh obj = ch10::moving_scene_at(time, detail, model);
   PathScene scene;
   scene.mesh = obj.geometry;
-  scene.material = obj.material_ids; // 0 the torus, 1 to 4 the spheres, 5 the floor
+  scene.material = obj.material_ids; // 0 the torus or model, 1 to 4 the spheres, 5 the floor
   scene.materials = {{{0.80f, 0.45f, 0.30f}, {}}, {{0.30f, 0.50f, 0.80f}, {}},
                      {{0.80f, 0.75f, 0.30f}, {}}, {{0.35f, 0.70f, 0.40f}, {}},
                      {{0.75f, 0.30f, 0.60f}, {}}, {{0.60f, 0.60f, 0.60f}, {}}};
   scene.lights = build_light_table(scene);
   scene.description =
-      "chapter 10's moving scene (rippling torus, four orbiting spheres, floor)";
+      model ? "chapter 10's moving scene with a waving model (" +
+                  group_digits(std::ssize(model->triangles)) +
+                  " triangles), four orbiting spheres, floor"
+            : "chapter 10's moving scene (rippling torus, four orbiting spheres, floor)";
   return scene;
 }
 

@@ -91,7 +91,9 @@ CameraSpec cornell_camera();
 // Chapter 10's moving scene at `time` (seconds) as a path tracer's scene: the rippling torus of
 // `detail` segments, four orbiting spheres and the floor, each with its own albedo, no
 // emitters. Every time gives the same triangles and materials; only the vertices move.
-PathScene moving_path_scene(double time, int detail);
+// With a `model` (fitted by ch10::fit_moving_model): the model waving in the torus's place,
+// in the torus's material.
+PathScene moving_path_scene(double time, int detail, const ch04::Mesh* model = nullptr);
 
 // The white furnace: the inside of a closed icosphere of radius 1 (20 * 4^subdivisions
 // triangles, turned to face inwards) whose every face has albedo `albedo` and emission

@@ -182,10 +182,10 @@ TEST_CASE("image samples: passes of bounded work, each able to report, the same 
 
 TEST_CASE("moving scene: a progress line counts the frames", "[ch11]") {
   using namespace rt::ch11;
-  PathRenderer renderer(testing::lit_moving_scene(0.0, 8), rt::Backend::cpu, TreeBuild::lbvh);
+  MovingPathRenderer renderer(testing::lit_moving_scene(0.0, 8), rt::Backend::cpu, 8);
   rt::Report report("moving", "Mpaths/s", "none");
   std::ostringstream lines;
-  add_moving_rows(renderer, {}, 8, rt::ch10::moving_scene_camera(), {8, 6}, 3, report, lines,
+  add_moving_rows(renderer, {}, rt::ch10::moving_scene_camera(), {8, 6}, 3, report, lines,
                   std::chrono::milliseconds(0));
   const std::string text = lines.str();
   CAPTURE(text);
@@ -367,8 +367,8 @@ TEST_CASE("program: bad input is refused with one line", "[ch11]") {
       {"--exposure 2 --output x.exr --image-only", 2, "--exposure scales the tone-mapped"},
       {"-o \"\"", 2, "the run would write nothing"},
       {"--image-only -o \"\"", 2, "the run would write nothing"},
-      {"--moving --scene " + room, 2, "not with --scene"},
-      {"--moving --convergence", 2, "not with --scene or --convergence"},
+      {"--moving --scene " + room + " --detail 16", 2, "--detail sizes the torus"},
+      {"--moving --convergence", 2, "--moving renders frames of a moving scene"},
       {"--detail 64", 2, "--detail goes with --moving"},
       {"--moving --detail 4", 2, "--detail"},
       {"--moving --detail 3162", 2, "--detail"}, // 10 million triangles at most
@@ -381,7 +381,7 @@ TEST_CASE("program: bad input is refused with one line", "[ch11]") {
   CHECK_THAT(run.output, contains("not with --window"));
 }
 
-TEST_CASE("program: --moving renders frames of chapter 10's scene, its tree built each frame",
+TEST_CASE("program: --moving renders frames of chapter 10's scene, moved on the backend",
           "[ch11]") {
   const fs::path folder = rt::testing::temp_folder("rt_ch11");
   const std::string image = (folder / "moving.png").string();
@@ -391,7 +391,7 @@ TEST_CASE("program: --moving renders frames of chapter 10's scene, its tree buil
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.output, contains("chapter 10's moving scene"));
-  CHECK_THAT(run.output, contains("moving: tree every frame"));
+  CHECK_THAT(run.output, contains("moving: tree every frame, on the backend"));
   CHECK_THAT(run.output, contains("over 3 frames; 0 NaN/Inf samples"));
   CHECK(fs::file_size(image) > 100);
 }
