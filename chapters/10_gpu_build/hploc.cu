@@ -125,11 +125,38 @@ __device__ Aabb load_box(const Aabb& box) {
 }
 __device__ int load_int(const int* p) { return *static_cast<const volatile int*>(p); }
 
-// Lane j's box for nearest_cluster: a shuffle that every lane executes.
-struct ShuffledBoxes {
-  Aabb own;
-  __device__ Aabb operator()(int j) const { return shuffle_box(own, j); }
-};
+// [listing:hploc_nearest_warp]
+// nearest_cluster on the warp: the lane computes the cost of its merge with the lane d places
+// to its right, whose box comes down by a shuffle, and hands the cost up to that lane by
+// another, so each of the 2 * radius candidates costs one box shuffle per pair, not one per
+// lane. The costs are merge_cost's, left box first, as on the CPU; better_candidate makes the
+// order they come in irrelevant.
+__device__ int nearest_on_warp(int lane, int count, int radius, const Aabb& own) {
+  int best = -1;
+  float best_cost = 0.0f;
+  for (int d = 1; d <= radius; ++d) {
+    Aabb right;
+    right.lo = {__shfl_down_sync(k_all_lanes, own.lo.x, d),
+                __shfl_down_sync(k_all_lanes, own.lo.y, d),
+                __shfl_down_sync(k_all_lanes, own.lo.z, d)};
+    right.hi = {__shfl_down_sync(k_all_lanes, own.hi.x, d),
+                __shfl_down_sync(k_all_lanes, own.hi.y, d),
+                __shfl_down_sync(k_all_lanes, own.hi.z, d)};
+    const float cost = merge_cost(own, right); // with lane + d, if it is in the list
+    const float from_left = __shfl_up_sync(k_all_lanes, cost, d); // lane - d's, with this lane
+    if (lane + d < count && better_candidate(cost, lane + d, best_cost, best)) {
+      best = lane + d;
+      best_cost = cost;
+    }
+    if (lane < count && lane - d >= 0 &&
+        better_candidate(from_left, lane - d, best_cost, best)) {
+      best = lane - d;
+      best_cost = from_left;
+    }
+  }
+  return best;
+}
+// [/listing:hploc_nearest_warp]
 
 // [listing:hploc_merge_warp]
 // The list of the subtree first..last, merged by the whole warp, one cluster per lane: lanes
@@ -157,7 +184,7 @@ __device__ void merge_on_warp(const HplocWalk& walk, int lane, int first, int sp
   }
   const int target = walk.target(first, last);
   while (count > target) {
-    const int j = nearest_cluster(lane, count, walk.radius, box, ShuffledBoxes{box});
+    const int j = nearest_on_warp(lane, count, walk.radius, box);
     const int back = __shfl_sync(k_all_lanes, j, j < 0 ? lane : j);
     const bool mutual = lane < count && j >= 0 && back == lane;
     const unsigned makes = __ballot_sync(k_all_lanes, mutual && lane < j);

@@ -45,23 +45,36 @@ RT_HD inline float merge_cost(const Aabb& left, const Aabb& right) {
                                                    : std::numeric_limits<float>::infinity();
 }
 
+// A list of clusters, one per lane, as the CPU keeps it (the GPU keeps lane k's in lane k's
+// registers). Left to right in Morton order.
+struct ClusterList {
+  int count = 0;
+  int id[k_warp_lanes];
+  Aabb box[k_warp_lanes];
+  int leaves[k_warp_lanes];
+};
+
 // [listing:hploc_nearest]
-// The nearest neighbour of the cluster in `lane` among the first `count` of a list: the one
-// within `radius` places whose merge costs least, the leftmost of equal ones (the loop meets
-// them left to right and keeps the first), as PLOC chooses. box_of(j) gives lane j's box;
-// on the GPU it is a shuffle, which every lane of the warp must execute, so every lane runs
-// the loop and the lanes outside the list or the radius only look.
-template <class BoxOf>
-RT_HD inline int nearest_cluster(int lane, int count, int radius, const Aabb& own,
-                                 BoxOf box_of) {
+// The order in which a cluster weighs its candidates: the cheaper merge, and of equal ones the
+// leftmost, as PLOC chooses. A total order (merge_cost has no NaN), so the choice is the same
+// whichever order the candidates come in: the GPU's lanes meet them in another order than
+// the CPU's loop.
+RT_HD inline bool better_candidate(float cost, int place, float best_cost, int best) {
+  return best < 0 || cost < best_cost || (cost == best_cost && place < best);
+}
+
+// The nearest neighbour of the list's cluster in `lane`: the best candidate within `radius`
+// places on either side.
+inline int nearest_cluster(const ClusterList& list, int lane, int radius) {
   int best = -1;
   float best_cost = 0.0f;
-  for (int d = -radius; d <= radius; ++d) {
-    const int j = lane + d;
-    const Aabb other = box_of(j < 0 ? 0 : j >= k_warp_lanes ? k_warp_lanes - 1 : j);
-    if (d == 0 || j < 0 || j >= count || lane >= count) continue;
-    const float cost = j < lane ? merge_cost(other, own) : merge_cost(own, other);
-    if (best < 0 || cost < best_cost) {
+  const int lo = lane - radius < 0 ? 0 : lane - radius;
+  const int hi = lane + radius >= list.count ? list.count - 1 : lane + radius;
+  for (int j = lo; j <= hi; ++j) {
+    if (j == lane) continue;
+    const float cost = j < lane ? merge_cost(list.box[j], list.box[lane])
+                                : merge_cost(list.box[lane], list.box[j]);
+    if (better_candidate(cost, j, best_cost, best)) {
       best = j;
       best_cost = cost;
     }
@@ -159,15 +172,6 @@ RT_HD inline bool gathers(int first, int last, int n, int threshold) {
   return last - first + 1 > threshold || (first == 0 && last == n - 1);
 }
 
-// A list of clusters, one per lane, as the CPU keeps it (the GPU keeps lane k's in lane k's
-// registers). Left to right in Morton order.
-struct ClusterList {
-  int count = 0;
-  int id[k_warp_lanes];
-  Aabb box[k_warp_lanes];
-  int leaves[k_warp_lanes];
-};
-
 // [listing:hploc_merge_cpu]
 // PLOC inside a list, the lanes of a warp in a loop: every cluster finds its nearest
 // neighbour, pairs that chose each other merge (the left one makes the node, in its own
@@ -181,8 +185,7 @@ void merge_cluster_list(ClusterList& list, int target, int radius, Nodes& nodes)
   while (list.count > target) {
     int neighbour[k_warp_lanes];
     for (int lane = 0; lane < list.count; ++lane)
-      neighbour[lane] = nearest_cluster(lane, list.count, radius, list.box[lane],
-                                        [&](int j) { return list.box[j]; });
+      neighbour[lane] = nearest_cluster(list, lane, radius);
     unsigned makes = 0, stays = 0;
     for (int lane = 0; lane < list.count; ++lane) {
       const int j = neighbour[lane];
