@@ -54,7 +54,7 @@ struct ClusterList {
   int leaves[k_warp_lanes];
 };
 
-// [listing:hploc_nearest]
+// [listing:hploc_order]
 // The order in which a cluster weighs its candidates: the cheaper merge, and of equal ones the
 // leftmost, as PLOC chooses. A total order (merge_cost has no NaN), so the choice is the same
 // whichever order the candidates come in: the GPU's lanes meet them in another order than
@@ -62,6 +62,7 @@ struct ClusterList {
 RT_HD inline bool better_candidate(float cost, int place, float best_cost, int best) {
   return best < 0 || cost < best_cost || (cost == best_cost && place < best);
 }
+// [/listing:hploc_order]
 
 // The nearest neighbour of the list's cluster in `lane`: the best candidate within `radius`
 // places on either side.
@@ -81,7 +82,6 @@ inline int nearest_cluster(const ClusterList& list, int lane, int radius) {
   }
   return best;
 }
-// [/listing:hploc_nearest]
 
 // Set bits of a word, on either backend.
 RT_HD inline int count_bits(unsigned x) {
@@ -172,7 +172,6 @@ RT_HD inline bool gathers(int first, int last, int n, int threshold) {
   return last - first + 1 > threshold || (first == 0 && last == n - 1);
 }
 
-// [listing:hploc_merge_cpu]
 // PLOC inside a list, the lanes of a warp in a loop: every cluster finds its nearest
 // neighbour, pairs that chose each other merge (the left one makes the node, in its own
 // place, the right one leaves), the list closes up, until `target` clusters or fewer are
@@ -216,6 +215,5 @@ void merge_cluster_list(ClusterList& list, int target, int radius, Nodes& nodes)
     list.count = kept;
   }
 }
-// [/listing:hploc_merge_cpu]
 
 } // namespace rt::ch10

@@ -2,7 +2,7 @@
 """Chapter 10's diagrams and plots (book/images/10_*): the Morton curve over the torus knot's
 triangles, the sorted codes' highest differing bits that split Karras's nodes, Karras's tree over
 eight sorted Morton codes, each interior node made by its own thread, PLOC's rounds re-enacted on
-a dozen points in the plane, and the moving scene's frames, rebuilt
+a dozen points in the plane, H-PLOC's walk up the LBVH of sixteen points, and the moving scene's frames, rebuilt
 against refitted, from the CSVs the program wrote into book/data: the 2-core machine's (SVG) and
 the H200's, torus and dragon, each frame's tree, collapse and trace stacked (PNG).
 
@@ -416,6 +416,144 @@ def ploc_merges(out):
     plt.close(fig)
 
 
+# Sixteen points for H-PLOC's walk up the LBVH. The chapter's builds pass up at most 16
+# clusters per subtree and look 8 places each way; sixteen points need a list of 3 and a
+# window of 2 to show a few merges.
+HPLOC_POINTS = [(0.6, 0.8), (1.5, 1.3), (0.9, 2.0), (2.1, 0.5), (3.2, 1.1), (3.9, 0.4),
+                (3.5, 2.2), (4.6, 1.6), (0.7, 3.4), (1.8, 2.9), (2.4, 3.8), (1.2, 4.4),
+                (5.3, 0.9), (6.4, 1.4), (5.8, 3.1), (6.9, 3.9)]
+HPLOC_THRESHOLD, HPLOC_RADIUS = 3, 2
+NODE_NAMES = "ABCDEFGHJKLMNPQRSTUVWXYZ"  # no I or O, which read as 1 and 0
+
+
+def radix_tree(keys, first, last):
+    """Karras's hierarchy over sorted unique keys, top down: the split is where the highest bit
+    in which the range's first and last keys differ turns from 0 to 1. Returns a leaf number
+    or (first, last, left, right)."""
+    if first == last:
+        return first
+    bit = (keys[first] ^ keys[last]).bit_length() - 1
+    split = next(k for k in range(first, last + 1) if keys[k] >> bit & 1)
+    return (first, last, radix_tree(keys, first, split - 1), radix_tree(keys, split, last))
+
+
+def hploc_list_merge(clusters, target, radius, names):
+    """hploc.h's merge_cluster_list on (name, box) clusters, the half perimeter for the half
+    area: mutual nearest neighbours within `radius` merge, the left one's place kept, until
+    `target` are left. New nodes are named A, B, ... in the order made (their boxes kept in
+    `names`)."""
+    while len(clusters) > target:
+        neighbour = []
+        for i, (_, own) in enumerate(clusters):
+            best, best_cost = -1, 0.0
+            for j in range(max(0, i - radius), min(len(clusters) - 1, i + radius) + 1):
+                if j != i:
+                    cost = half_perimeter(join(own, clusters[j][1]))
+                    if best < 0 or cost < best_cost:
+                        best, best_cost = j, cost
+            neighbour.append(best)
+        merged = []
+        for i, (name, box) in enumerate(clusters):
+            j = neighbour[i]
+            mutual = neighbour[j] == i
+            if mutual and i < j:
+                node = NODE_NAMES[len(names)]
+                names[node] = join(box, clusters[j][1])
+                merged.append((node, names[node]))
+            elif not mutual:
+                merged.append((name, box))
+        clusters = merged
+    return clusters
+
+
+def hploc_walk(out):
+    """The LBVH over sixteen points, each subtree labelled with the clusters it passes up;
+    red where the list grew past the threshold (or reached the root) and PLOC ran inside it.
+    Beside it the points and the boxes of the nodes the merges made."""
+    order, codes = morton_order(HPLOC_POINTS, 2)
+    points = [HPLOC_POINTS[k] for k in order]  # leaf k is the k-th point in Morton order
+    keys = [codes[order[k]] << 4 | k for k in range(len(points))]  # the index breaks ties
+    tree = radix_tree(keys, 0, len(points) - 1)
+    names = {}  # node letter -> box
+    labels = []  # (first, last, depth, list, merged)
+    root_first = []  # the number of the first node the root's merges made
+
+    def walk(node, depth):
+        if isinstance(node, int):
+            return [(str(node), (points[node], points[node]))], 0
+        first, last, left, right = node
+        left_list, left_depth = walk(left, depth + 1)
+        right_list, right_depth = walk(right, depth + 1)
+        clusters = left_list + right_list
+        root = first == 0 and last == len(points) - 1
+        merged = last - first + 1 > HPLOC_THRESHOLD or root
+        if merged:
+            if root:
+                root_first.append(len(names))
+            clusters = hploc_list_merge(clusters, 1 if root else HPLOC_THRESHOLD,
+                                        HPLOC_RADIUS, names)
+        labels.append((first, last, depth, [name for name, _ in clusters],
+                       merged and len(clusters) < len(left_list) + len(right_list)))
+        return clusters, max(left_depth, right_depth) + 1
+
+    _, height = walk(tree, 0)
+    fig, (plane, ax) = plt.subplots(1, 2, figsize=(15, 6.2),
+                                    gridspec_kw={"width_ratios": [1, 1.9]})
+    plane.set_aspect("equal")
+    plane.set_xticks([])
+    plane.set_yticks([])
+    plane.plot([p[0] for p in points], [p[1] for p in points], color="#cccccc", linewidth=1,
+               zorder=0)
+    for k, (x, y) in enumerate(points):
+        plane.plot(x, y, "o", color=GREY, markersize=4)
+        plane.text(x + 0.08, y + 0.08, str(k), fontsize=8, color=GREY)
+    for made, (node, ((x0, y0), (x1, y1))) in enumerate(names.items()):
+        if made >= root_first[0]:
+            break  # the root's own merges span everything: left out
+        grow = 0.1 + 0.04 * made
+        plane.add_patch(Rectangle((x0 - grow, y0 - grow), x1 - x0 + 2 * grow,
+                                  y1 - y0 + 2 * grow, fill=False, edgecolor=RED,
+                                  linewidth=1))
+        plane.text(x0 - grow, y1 + grow, node, fontsize=8, color=RED, va="bottom")
+    plane.set_title("The points in Morton order (grey line) and the nodes\nmerged below the "
+                    "root (red)", fontsize=10)
+    ax.axis("off")
+    ax.set_xlim(-0.8, len(points) - 0.2)
+    ax.set_ylim(-1.4, height + 0.9)
+    for k in range(len(points)):
+        ax.text(k, 0, str(k), ha="center", va="center", fontsize=9,
+                bbox=dict(boxstyle="round,pad=0.25", facecolor="#eef5fb", edgecolor=BLUE))
+    place = {}
+    for first, last, depth, clusters, merged in labels:
+        place[(first, last)] = ((first + last) / 2, height - depth)
+    for first, last, depth, clusters, merged in labels:
+        x, y = place[(first, last)]
+        ax.text(x, y, " ".join(clusters), ha="center", va="center", fontsize=8.5,
+                family="monospace", color=RED if merged else "black",
+                bbox=dict(boxstyle="round,pad=0.25", facecolor="#fdf2e9" if merged else "white",
+                          edgecolor=RED if merged else GREY))
+    for first, last, depth, clusters, merged in labels:  # each node to its two children
+        x, y = place[(first, last)]
+        for child in [c for c in place if c != (first, last) and first <= c[0] and
+                      c[1] <= last and place[c][1] == y - 1]:
+            ax.plot([x, place[child][0]], [y - 0.2, place[child][1] + 0.2], color=GREY,
+                    linewidth=0.8, zorder=0)
+        ranges = [c for c in place if first <= c[0] and c[1] <= last and c != (first, last)]
+        for k in range(first, last + 1):  # leaves hang from the lowest node above them
+            if all(not (c[0] <= k <= c[1]) for c in ranges):
+                ax.plot([x, k], [y - 0.2, 0.25], color=GREY, linewidth=0.8, zorder=0)
+    ax.set_title(f"Each subtree's list, passed up (at most {HPLOC_THRESHOLD} clusters; "
+                 f"PLOC within {HPLOC_RADIUS} places where it grows past them, red)",
+                 fontsize=10)
+    fig.text(0.5, 0.01, "Leaves are numbered in Morton order; A, B, ... are the nodes the "
+             "merges made, in the order made. A subtree of at most three points passes its "
+             "leaves up unmerged;\nabove that, the two lists side by side are merged down to "
+             "three, and at the root down to one: the root of the whole tree.",
+             ha="center", fontsize=9.5, color=GREY)
+    save(fig, out / "10_hploc_walk.svg")
+    plt.close(fig)
+
+
 def main():
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "book" / "images"
     out.mkdir(parents=True, exist_ok=True)
@@ -423,6 +561,7 @@ def main():
     karras_split(out)
     karras_tree(out)
     ploc_merges(out)
+    hploc_walk(out)
     animation_plot(out)
     for csv_name, scene, png_name in GPU_ANIMATIONS:
         gpu_animation_plot(out, csv_name, scene, png_name)
