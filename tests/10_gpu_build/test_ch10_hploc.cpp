@@ -250,6 +250,10 @@ TEST_CASE("a threshold of one is the LBVH, other thresholds and radii other tree
   const GpuBuild one = build_hploc(Backend::cpu, mesh, k_ploc_radius, 1);
   const GpuBuild lbvh = build_lbvh(Backend::cpu, mesh, CodeWidth::bits30);
   CHECK(same_tree(one.bvh, lbvh.bvh));
+  // Equal codes too, split by the leaves' numbers (karras.h's delta), on the way up as down.
+  for (const Mesh& tied : {identical_triangles(1000), power_of_two_chain(300)})
+    CHECK(same_tree(build_hploc(Backend::cpu, tied, k_ploc_radius, 1).bvh,
+                    build_lbvh(Backend::cpu, tied, CodeWidth::bits30).bvh));
   const GpuBuild full = build_hploc(Backend::cpu, mesh);
   const GpuBuild half = build_hploc(Backend::cpu, mesh, k_ploc_radius, 8);
   const GpuBuild near = build_hploc(Backend::cpu, mesh, 1);
@@ -274,8 +278,9 @@ TEST_CASE("degenerate input: within the depth bound, or the LBVH with a note",
       {"three triangles", identical_triangles(3)},
       {"seventeen identical", identical_triangles(17)},
       {"4096 identical", identical_triangles(4096)},
+      {"200 000 identical", identical_triangles(200000)},
       {"powers of two", power_of_two_chain(4096)},
-      {"collinear", collinear_triangles(5000)},
+      {"collinear", collinear_triangles(100000)},
       {"ever wider spaced", exponentially_spaced_triangles(480)},
       {"huge coordinates", huge_soup()},
   };
