@@ -291,13 +291,16 @@ struct PlaceClusters {
   }
 };
 
-// Interior node j in chapter 07's layout, and its leaves' triangles in their slots.
+// Interior node j in chapter 07's layout, boxes included, and its leaves' triangles in their
+// slots. The walk made every box as the union of its children's, left one grown by the right,
+// from the triangles' own boxes up: the very operations, in the very order, of the bottom-up
+// pass that boxes the other builders' trees (refit.h), so its boxes are that pass's, and it
+// need not run.
 struct WriteClusters {
   ClusterTree tree;
   const int *index, *slot, *sorted_ids;
   MeshView mesh;
   BvhNode* out;
-  int* out_parents;
   TriangleF* triangles;
   int* triangle_ids;
   RT_HD void operator()(int j) const {
@@ -306,17 +309,15 @@ struct WriteClusters {
     for (int c = 0; c < 2; ++c) {
       const int child = tree.nodes[j].child[c];
       const bool leaf = child < tree.n;
+      written.box[c] = tree.boxes[child];
       written.first[c] = leaf ? slot[child] : index[child - tree.n];
       written.count[c] = leaf ? 1 : 0;
       if (leaf) {
         triangles[slot[child]] = mesh.triangle(sorted_ids[child]);
         triangle_ids[slot[child]] = sorted_ids[child];
-      } else {
-        out_parents[written.first[c]] = 2 * at + c;
       }
     }
     out[at] = written;
-    if (at == 0) out_parents[0] = -1;
   }
 };
 
@@ -325,17 +326,15 @@ struct HplocArrays {
   BackendArray<Aabb> boxes;
   BackendArray<int> leaf_counts, parents;
   BackendArray<ClusterPair> nodes;
-  BackendArray<int> clusters, far_ends, index, slot, out_parents, triangle_ids;
+  BackendArray<int> clusters, far_ends, index, slot, triangle_ids;
   BackendArray<int> status; // the node counter and the too-deep flag: one read at the end
   BackendArray<BvhNode> out_nodes;
   BackendArray<TriangleF> triangles;
-  BackendArray<unsigned> arrivals;
   HplocArrays(Backend backend, int n)
       : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
         nodes(backend, n - 1), clusters(backend, n), far_ends(backend, n - 1),
-        index(backend, n - 1), slot(backend, n), out_parents(backend, n - 1),
-        triangle_ids(backend, n), status(backend, 2), out_nodes(backend, n - 1),
-        triangles(backend, n), arrivals(backend, n - 1) {}
+        index(backend, n - 1), slot(backend, n), triangle_ids(backend, n), status(backend, 2),
+        out_nodes(backend, n - 1), triangles(backend, n) {}
   ClusterTree tree(int n) {
     return {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()};
   }
@@ -361,9 +360,8 @@ std::optional<GpuBuild> hploc_tree(Backend backend, const ch04::Mesh& mesh, int 
                  PlaceClusters{tree, a.index.data(), a.slot.data(), a.status.data() + 1});
   for_each_index(backend, n - 1,
                  WriteClusters{tree, a.index.data(), a.slot.data(), order.sorted_ids.data(),
-                               order.mesh, a.out_nodes.data(), a.out_parents.data(),
-                               a.triangles.data(), a.triangle_ids.data()});
-  box_bottom_up(backend, a.out_nodes, a.out_parents, a.triangles, a.arrivals);
+                               order.mesh, a.out_nodes.data(), a.triangles.data(),
+                               a.triangle_ids.data()});
   const std::vector<int> status = a.status.to_host();
   if (status[0] != n - 1)
     throw Error("H-PLOC made " + std::to_string(status[0]) + " nodes for " + std::to_string(n) +

@@ -217,6 +217,11 @@ TEST_CASE("H-PLOC trees pass chapter 07's checker and give brute force's hits",
     CHECK(hploc.bvh.options.max_leaf_size == 1);
     const auto rays = rt::testing::random_rays(3000, 19, centre, 10.0f);
     CHECK(brute_force_mismatches(hploc.bvh.view(), mesh, rays) == 0);
+    // The boxes the merges made are the ones the bottom-up pass gives the tree, bit for bit.
+    ch07::Bvh refitted = hploc.bvh;
+    refit_bvh(Backend::cpu, refitted, mesh);
+    CHECK(same_tree(refitted, hploc.bvh));
+    CHECK(rt::testing::same_bits(refitted.bounds, hploc.bvh.bounds));
   }
 }
 
