@@ -2,7 +2,8 @@
 // harmful"). One sample per pixel at a time, split into stages, each a kernel of its own over a
 // queue of paths in memory: generate the camera rays, extend (trace every live path's ray to
 // its closest hit), shade (shade_vertex: queue the shadow rays and the paths that go on), and
-// connect (trace the shadow rays, any hit). Queues are compacted with atomic counters. A stage
+// connect (trace the shadow rays, any hit). Queues are compacted with atomic counters; the last
+// few paths, too few to fill the GPU, are finished in one launch (the stragglers). A stage
 // runs one small function over many paths that all do the same thing, where the megakernel's
 // threads drift apart into different parts of one large function. The stages themselves are
 // in wavefront_stages.cuh; this header holds their memory and statistics.
@@ -18,11 +19,21 @@ using ch06::KernelKind;
 
 // The wavefront's counters, by slot: what a stage counts with an atomic for the host to read.
 enum WavefrontCounter : int {
-  k_next_queue_length = 0,   // shade: the paths that go on to the next bounce
-  k_shadow_queue_length = 1, // shade: the paths with shadow rays to trace
-  k_shadow_rays_traced = 2,  // connect: the shadow rays it traced (when counted)
-  k_wavefront_counters = 3,  // how many
+  k_next_queue_length = 0,     // shade: the paths that go on to the next bounce
+  k_shadow_queue_length = 1,   // shade: the paths with shadow rays to trace
+  k_shadow_rays_traced = 2,    // connect: the shadow rays it traced (when counted)
+  k_straggler_rays_traced = 3, // complete: the rays it extended the stragglers by (counted)
+  k_wavefront_counters = 4,    // how many
 };
+
+// When fewer paths are live than k_straggler_paths and than one in k_straggler_share of the
+// image's, the wavefront stops launching three kernels a bounce and finishes them in one
+// launch (Complete, wavefront_stages.cuh). The last bounces of an image are few paths' work,
+// and a launch for each costs several microseconds whatever it holds: an H200 runs 270 000
+// threads at once (132 processors of 2 048), a quarter of that is the first bar. The second
+// keeps the stages for the first bounces of a small image.
+inline constexpr int k_straggler_paths = 1 << 16;
+inline constexpr int k_straggler_share = 8;
 
 // The memory of one pass of the wavefront over an image of `pixels` pixels: a path per pixel
 // and its shadow rays, the hits of the paths in the queue, and the queues themselves: 192

@@ -75,6 +75,37 @@ template <class S> struct Connect { // the shadow rays, any hit; what reaches th
   }
 };
 
+// [listing:wavefront_stragglers]
+// The stragglers: each path of the queue taken to its end in one thread, bounce after bounce,
+// as the megakernel does: extend, shade and connect in the same order as the stages above, so
+// the sums are the same bit for bit.
+template <class S, class F> struct Complete {
+  Queues<typename S::Path> q;
+  S scene;
+  F features;
+  Strategy strategy;
+  bool count_rays;
+  RT_HD void operator()(int j) const {
+    const int p = q.queue[j];
+    typename S::Path path = q.paths[p]; // in registers while it runs, back when it ends
+    ShadowRays shadows;
+    bool alive = true;
+    while (alive) {
+      if (count_rays) atomic_increment(&q.counters[k_straggler_rays_traced]);
+      const TraceHit hit = ch09::trace_wide<Query::closest>(scene.tree, path.ray);
+      shadows.count = 0;
+      alive = shade_vertex(scene, features, strategy, path, hit, shadows);
+      for (int k = 0; k < shadows.count; ++k) {
+        if (count_rays) atomic_increment(&q.counters[k_shadow_rays_traced]);
+        if (ch09::trace_wide<Query::any>(scene.tree, shadows.ray[k]).triangle < 0)
+          path.radiance += shadows.contribution[k];
+      }
+    }
+    q.paths[p] = path;
+  }
+};
+// [/listing:wavefront_stragglers]
+
 template <class Path> struct Finish { // every path has ended: its radiance joins its pixel
   Queues<Path> q;
   float4* sums;
@@ -97,7 +128,8 @@ inline void read_counters(Backend backend, const unsigned* counters,
 template <class S, class F> int wavefront_registers_of() {
   return std::max({kernel_registers(for_each_index_kernel<Extend<S>>),
                    kernel_registers(for_each_index_kernel<Shade<S, F>>),
-                   kernel_registers(for_each_index_kernel<Connect<S>>)});
+                   kernel_registers(for_each_index_kernel<Connect<S>>),
+                   kernel_registers(for_each_index_kernel<Complete<S, F>>)});
 }
 
 // [listing:wavefront_loop]
@@ -109,6 +141,7 @@ WavefrontPass run_wavefront(Backend backend, F features, Strategy strategy, cons
                             bool count_shadow_rays) {
   using Path = typename S::Path;
   const int pixels = static_cast<int>(queues.capacity()); // an image: at most 2^25 (cli.h)
+  const int straggler_bar = std::min(k_straggler_paths, pixels / k_straggler_share);
   WavefrontPass pass;
   for (int s = 0; s < samples; ++s) {
     int current = 0; // which of the two queues holds this bounce's paths
@@ -118,6 +151,19 @@ WavefrontPass run_wavefront(Backend backend, F features, Strategy strategy, cons
     for_each_index(backend, pixels, Generate<S>{q, scene, camera, first_sample + unsigned(s)});
     int live = pixels;
     while (live > 0) {
+      if (live < straggler_bar) { // too few to fill the GPU: finish them in one launch
+        q.queue = queues.queue[current].data();
+        queues.counters.clear();
+        for_each_index(backend, live,
+                       Complete<S, F>{q, scene, features, strategy, count_shadow_rays});
+        if (count_shadow_rays) {
+          unsigned counts[k_wavefront_counters];
+          read_counters(backend, queues.counters.data(), counts);
+          pass.extended += counts[k_straggler_rays_traced];
+          pass.shadow_rays += counts[k_shadow_rays_traced];
+        }
+        break;
+      }
       q.queue = queues.queue[current].data();
       q.next_queue = queues.queue[1 - current].data();
       for_each_index(backend, live, Extend<S>{q, scene});
