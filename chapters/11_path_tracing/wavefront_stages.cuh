@@ -75,6 +75,14 @@ template <class S> struct Connect { // the shadow rays, any hit; what reaches th
   }
 };
 
+template <class Path> struct Finish { // every path has ended: its radiance joins its pixel
+  Queues<Path> q;
+  float4* sums;
+  unsigned* non_finite;
+  RT_HD void operator()(int i) const { add_sample(sums[i], q.paths[i].radiance, non_finite); }
+};
+// [/listing:wavefront_stages]
+
 // [listing:wavefront_stragglers]
 // The stragglers: each path of the queue taken to its end in one thread, bounce after bounce,
 // as the megakernel does: extend, shade and connect in the same order as the stages above, so
@@ -105,14 +113,6 @@ template <class S, class F> struct Complete {
   }
 };
 // [/listing:wavefront_stragglers]
-
-template <class Path> struct Finish { // every path has ended: its radiance joins its pixel
-  Queues<Path> q;
-  float4* sums;
-  unsigned* non_finite;
-  RT_HD void operator()(int i) const { add_sample(sums[i], q.paths[i].radiance, non_finite); }
-};
-// [/listing:wavefront_stages]
 
 // The counters after a stage, on the host.
 inline void read_counters(Backend backend, const unsigned* counters,
