@@ -1,8 +1,9 @@
 // Chapter 12: what a surface does with light, in its local frame (z is the normal). Each model
 // is a sum of lobes: a Lambertian one, GGX reflection off a metal or off a dielectric coat,
 // transmission through a rough or smooth dielectric (Walter et al. 2007), and the energy
-// compensation lobe of rough metals. The sampler picks one lobe, draws from it, and weights
-// the direction by the whole sum, so eval, pdf and sample always agree.
+// compensation of rough metals (a lobe) and of rough glass (a scale). The sampler picks one
+// lobe, draws from it, and weights the direction by the whole sum, so eval, pdf and sample
+// always agree.
 #pragma once
 
 #include <limits>
@@ -106,6 +107,22 @@ RT_HD inline float lobe_scale(const Bsdf& b, LobeKind kind) {
 RT_HD inline bool compensates(const Bsdf& b, const CompensationView& table) {
   return table.enabled && !is_smooth(b);
 }
+
+// [listing:dielectric_compensation]
+// Rough glass loses light as a rough metal does: one scattering off the microfacets keeps
+// E(mu_o, alpha, eta) of what arrives from wo, reflected and refracted together, and the rest
+// would have scattered again between the facets. Turquin 2019: scale the whole dielectric
+// lobe by 1 / E, so that from every wo it keeps all of it. The scale depends on wo alone, so
+// the lobe's shape and its sampler stay as they are; the price is reciprocity, which the
+// scaled lobe keeps only where E(wo) = E(wi). eta is the index of the far side over wo's.
+RT_HD inline float dielectric_compensation(const Bsdf& b, Vec3f wo,
+                                           const CompensationView& table) {
+  if (!compensates(b, table)) return 1.0f;
+  const float eta = wo.z > 0.0f ? b.ior : 1.0f / b.ior;
+  const float kept = dielectric_directional_albedo(table, absolute(wo.z), b.alpha, eta);
+  return kept > 0.0f ? 1.0f / kept : 1.0f;
+}
+// [/listing:dielectric_compensation]
 
 // [listing:lobe_choice]
 // How often the sampler picks each lobe for this wo: an estimate of the light each returns
@@ -233,7 +250,9 @@ RT_HD inline Vec3f lobe_eval(const Bsdf& b, LobeKind kind, Vec3f wo, Vec3f wi,
   const float scale = lobe_scale(b, kind);
   if (!(scale > 0.0f)) return {};
   if (kind == LobeKind::dielectric)
-    return dielectric_is_delta(b) ? Vec3f{} : dielectric_eval(b, wo, wi) * scale;
+    return dielectric_is_delta(b)
+               ? Vec3f{}
+               : dielectric_eval(b, wo, wi) * (scale * dielectric_compensation(b, wo, table));
   const Vec3f o = to_side_of(wo, wo.z), i = to_side_of(wi, wo.z);
   Vec3f h;
   if (!reflection_half_vector(o, i, h)) return {};

@@ -3,7 +3,9 @@
 // leaves after one bounce off a microfacet; light that bounces twice or more between facets
 // is dropped, so a white rough metal looks darker the rougher it is. E(mu, alpha), the share
 // that one bounce keeps from a direction of cosine mu, is tabulated once on the host; an extra
-// diffuse-like lobe made from it returns the missing 1 - E.
+// diffuse-like lobe made from it returns the missing 1 - E. Rough glass loses light the same
+// way; its lobes are scaled up by 1 / E of the interface instead (Turquin 2019), from a
+// second table over the index of refraction as well.
 #pragma once
 
 #include <vector>
@@ -21,11 +23,27 @@ namespace rt::ch12 {
 // down to alpha = 0.001, where nodes spaced evenly in mu and alpha would miss it.
 inline constexpr int k_compensation_size = 32;
 
+// The glass's table: E(mu, alpha, eta) of a rough dielectric interface, reflection and
+// refraction together, for light arriving from the side of index n_o at an interface whose
+// far side has index n_t, eta = n_t / n_o. Two halves: eta from 1 to k_dielectric_max_eta
+// (light arriving from outside glass) and 1 / eta over the same nodes (from inside, where
+// total internal reflection starts at sin theta = 1 / eta). In each half a 32 x 32 slice of
+// mu and alpha, as the metal's table, per node of eta, the nodes spaced evenly in 1 / eta:
+// (1 - 1 / eta) / (1 - 1 / max) = k / 15. E bends less along 1 / eta than along eta (linear
+// interpolation between the nodes errs by at most 2e-3 where spacing in eta errs by 1e-2).
+// 2 x 16 x 32 x 32 floats: 128 KiB.
+inline constexpr int k_dielectric_eta_nodes = 16;
+inline constexpr float k_dielectric_max_eta = 3.0f;
+inline constexpr int k_compensation_slice = k_compensation_size * k_compensation_size;
+inline constexpr int k_dielectric_table_size =
+    2 * k_dielectric_eta_nodes * k_compensation_slice;
+
 // The table as the kernels read it (host or device arrays).
 struct CompensationView {
-  const float* e;     // E(mu, alpha): k_compensation_size^2, alpha's row by row, mu along a row
-  const float* e_avg; // E_avg(alpha) = 2 int E(mu) mu dmu: k_compensation_size
-  bool enabled;       // false: no compensation lobe (the energy loss stays visible)
+  const float* e;          // E(mu, alpha): k_compensation_slice, alpha's row by row, mu along
+  const float* e_avg;      // E_avg(alpha) = 2 int E(mu) mu dmu: k_compensation_size
+  const float* dielectric; // E(mu, alpha, eta) of glass: k_dielectric_table_size (above)
+  bool enabled;            // false: no compensation (the energy loss stays visible)
 };
 
 // The node below x in [0, 1] and the fraction of the way to the next one, in sqrt(x).
@@ -39,15 +57,40 @@ RT_HD inline TablePosition table_position(float x) {
   return {node, position - float(node)};
 }
 
-// E(mu, alpha) between the nodes by bilinear interpolation in sqrt(mu) and sqrt(alpha).
-RT_HD inline float directional_albedo(const CompensationView& table, float mu, float alpha) {
+// A slice E(mu, alpha) between the nodes by bilinear interpolation in sqrt(mu) and
+// sqrt(alpha).
+RT_HD inline float slice_value(const float* slice, float mu, float alpha) {
   const TablePosition m = table_position(mu), a = table_position(alpha);
-  const float* row = table.e + a.node * k_compensation_size;
+  const float* row = slice + a.node * k_compensation_size;
   const float* next = row + k_compensation_size;
   const float low = row[m.node] + (row[m.node + 1] - row[m.node]) * m.fraction;
   const float high = next[m.node] + (next[m.node + 1] - next[m.node]) * m.fraction;
   return low + (high - low) * a.fraction;
 }
+RT_HD inline float directional_albedo(const CompensationView& table, float mu, float alpha) {
+  return slice_value(table.e, mu, alpha);
+}
+
+// [listing:dielectric_albedo_lookup]
+// E(mu, alpha, eta) of the glass: the half for eta's side of 1, the two slices about eta (or
+// 1 / eta) and linear interpolation between them in 1 / eta. An eta past the last node reads
+// the last.
+RT_HD inline float dielectric_directional_albedo(const CompensationView& table, float mu,
+                                                 float alpha, float eta) {
+  const int half = eta < 1.0f ? 1 : 0;
+  const float inverse = eta < 1.0f ? eta : 1.0f / eta; // 1 / eta of the half, in (0, 1]
+  const float position =
+      clamp_to((1.0f - inverse) / (1.0f - 1.0f / k_dielectric_max_eta), 0.0f, 1.0f) *
+      float(k_dielectric_eta_nodes - 1);
+  const int node = min_of(int(position), k_dielectric_eta_nodes - 2);
+  const float fraction = position - float(node);
+  const float* slice =
+      table.dielectric + (half * k_dielectric_eta_nodes + node) * k_compensation_slice;
+  const float low = slice_value(slice, mu, alpha);
+  const float high = slice_value(slice + k_compensation_slice, mu, alpha);
+  return low + (high - low) * fraction;
+}
+// [/listing:dielectric_albedo_lookup]
 
 // E_avg(alpha) between the nodes, linearly in sqrt(alpha): it is then exactly 2 int E(mu) mu
 // dmu of the interpolated E, so the compensation lobe returns exactly 1 - E (see the table's
@@ -101,31 +144,46 @@ namespace rt::ch12 {
 // measure it). mu is taken as at least 1e-6.
 double single_scattering_albedo(double alpha, double mu, int points = 128);
 
+// E(mu, alpha, eta) of a rough dielectric interface (white, no absorption), one scattering
+// off the microfacets, reflection and refraction together, for light from the side of index
+// n_o, eta = n_t / n_o; refraction's radiance factor (n_o / n_t)^2 left out, as energy
+// counts it. Gauss-Legendre quadrature over the visible normals in double with `points`
+// nodes on each axis (energy_compensation.cpp says how). mu is taken as at least 1e-6.
+double dielectric_albedo(double alpha, double mu, double eta, int points = 64);
+
 // 2 int F(mu) mu dmu of the exact conductor Fresnel term of eta + i k, per channel: the F_avg
 // of the compensation lobe's colour (Material::conductor_f_avg).
 Vec3f conductor_f_avg(Vec3f eta, Vec3f k);
 
-// The table E(mu, alpha) on the 32 x 32 nodes and E_avg(alpha), on the host; the renderer
-// uploads the two arrays for the GPU and points a CompensationView at them.
+// The table E(mu, alpha) on the 32 x 32 nodes, E_avg(alpha) and the glass's E(mu, alpha, eta),
+// on the host; the renderer uploads the three arrays for the GPU and points a
+// CompensationView at them.
 class CompensationTable {
 public:
-  // Quadrature points per axis for each node (single_scattering_albedo). Deterministic.
+  // Quadrature points per axis for each node (single_scattering_albedo, dielectric_albedo).
+  // Deterministic.
   static constexpr int k_points = 64;
+  static constexpr int k_dielectric_points = 32;
   CompensationTable();
   CompensationView view(bool enabled = true) const {
-    return {e_.data(), e_avg_.data(), enabled};
+    return {e_.data(), e_avg_.data(), dielectric_.data(), enabled};
   }
   const std::vector<float>& e() const { return e_; }
   const std::vector<float>& e_avg() const { return e_avg_; }
+  const std::vector<float>& dielectric() const { return dielectric_; }
 
 private:
-  std::vector<float> e_, e_avg_;
+  std::vector<float> e_, e_avg_, dielectric_;
 };
 
 // The mu and alpha of node i: (i / 31)^2.
 inline double compensation_node(int i) {
   const double s = double(i) / (k_compensation_size - 1);
   return s * s;
+}
+// The eta of the glass table's node k (its second half holds 1 / that).
+inline double dielectric_eta_node(int k) {
+  return 1.0 / (1.0 - (1.0 - 1.0 / k_dielectric_max_eta) * k / (k_dielectric_eta_nodes - 1));
 }
 
 } // namespace rt::ch12

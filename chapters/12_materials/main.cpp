@@ -249,7 +249,7 @@ int main(int argc, char** argv) {
       "GPU: read textures with plain loads and the software filter, not texture objects");
   app.add_flag_function(
       "--no-compensation", [&](std::int64_t) { options.materials.compensation = false; },
-      "Leave out the energy compensation of rough metals (their loss shows)");
+      "Leave out the energy compensation of rough metals and glass (their loss shows)");
   app.add_option("--exposure", options.exposure,
                  "Radiance scale before the tone curve (the PNG and the window)")
       ->check(finite_range(1e-6, 1e6))

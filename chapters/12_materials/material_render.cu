@@ -154,7 +154,7 @@ struct DeviceMaterialScene {
   DeviceBuffer<Vec2f> uv;
   DeviceBuffer<int> light_triangles;
   DeviceBuffer<float> light_cdf;
-  DeviceBuffer<float> e, e_avg; // the compensation tables
+  DeviceBuffer<float> e, e_avg, dielectric; // the compensation tables
   DeviceTextures textures;
 };
 
@@ -184,7 +184,9 @@ MaterialRenderer::MaterialRenderer(const MaterialScene& scene, Backend backend,
         DeviceBuffer<int>(span_of(s.lights.triangles)),
         DeviceBuffer<float>(span_of(s.lights.cdf)),
         DeviceBuffer<float>(span_of(compensation_.e())),
-        DeviceBuffer<float>(span_of(compensation_.e_avg())), DeviceTextures(scene_.textures)});
+        DeviceBuffer<float>(span_of(compensation_.e_avg())),
+        DeviceBuffer<float>(span_of(compensation_.dielectric())),
+        DeviceTextures(scene_.textures)});
   } else {
     host_textures_ = HostTextures(scene_.textures);
   }
@@ -211,7 +213,7 @@ void MaterialRenderer::make_view() {
     v.surfaces = d.surfaces.data();
     v.uv = scene_.uv.empty() ? nullptr : d.uv.data();
     v.textures = d.textures.table(options_.filter, options_.texture_objects);
-    v.compensation = {d.e.data(), d.e_avg.data(), options_.compensation};
+    v.compensation = {d.e.data(), d.e_avg.data(), d.dielectric.data(), options_.compensation};
   } else {
     v.tree = tree_.view();
     v.mesh = {s.mesh.vertices.data(), s.mesh.triangles.data(), triangles};

@@ -82,16 +82,17 @@ template <class T> RT_HD inline T visible_normal_density(Vec3<T> wo, Vec3<T> m, 
 }
 
 // The normal of the GGX surface stretched by 1 / alpha: the hemisphere's. Shared by both
-// samplers, which draw on the unit hemisphere and stretch the result back.
-RT_HD inline Vec3f stretched(Vec3f w, float alpha) {
-  return normalize(Vec3f{alpha * w.x, alpha * w.y, w.z});
+// samplers, which draw on the unit hemisphere and stretch the result back (and by the
+// quadrature of the glass's compensation table, in double).
+template <class T> RT_HD inline Vec3<T> stretched(Vec3<T> w, T alpha) {
+  return normalize(Vec3<T>{alpha * w.x, alpha * w.y, w.z});
 }
-RT_HD inline Vec3f unstretched_normal(Vec3f n, float alpha) {
-  const Vec3f m{alpha * n.x, alpha * n.y, max_of(n.z, 0.0f)};
-  const float length2 = length_squared(m);
+template <class T> RT_HD inline Vec3<T> unstretched_normal(Vec3<T> n, T alpha) {
+  const Vec3<T> m{alpha * n.x, alpha * n.y, max_of(n.z, T(0))};
+  const T length2 = length_squared(m);
   // A normal squeezed to nothing (n exactly on the horizon at a tiny alpha) is the horizon's
   // limit; the normal is what a zero-length vector would have meant.
-  return length2 > 0.0f ? m / square_root(length2) : Vec3f{0.0f, 0.0f, 1.0f};
+  return length2 > T(0) ? m / square_root(length2) : Vec3<T>{T(0), T(0), T(1)};
 }
 
 // [listing:vndf_heitz]
@@ -230,23 +231,26 @@ RT_HD inline Vec3f fresnel_conductor(float cos_i, Vec3f eta, Vec3f k) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Reflection and refraction about a (micro)normal m.
+// Reflection and refraction about a (micro)normal m; in float for the kernels and in double
+// for the quadrature of the compensation tables (energy_compensation.cpp).
 
-RT_HD inline Vec3f reflect(Vec3f wo, Vec3f m) { return m * (2.0f * dot(wo, m)) - wo; }
+template <class T> RT_HD inline Vec3<T> reflect(Vec3<T> wo, Vec3<T> m) {
+  return m * (T(2) * dot(wo, m)) - wo;
+}
 
 // The direction refracted from wo through the interface with normal m, eta = the index on the
 // far side of m over the index on wo's side (m's side when wo.m > 0). False past the critical
 // angle: no refracted direction exists.
-RT_HD inline bool refract(Vec3f wo, Vec3f m, float eta, Vec3f& wt) {
-  float cos_i = dot(wo, m);
-  if (cos_i < 0.0f) {
-    eta = 1.0f / eta;
+template <class T> RT_HD inline bool refract(Vec3<T> wo, Vec3<T> m, T eta, Vec3<T>& wt) {
+  T cos_i = dot(wo, m);
+  if (cos_i < T(0)) {
+    eta = T(1) / eta;
     cos_i = -cos_i;
     m = -m;
   }
-  const float sin2_t = max_of(0.0f, 1.0f - cos_i * cos_i) / (eta * eta);
-  if (sin2_t >= 1.0f) return false;
-  const float cos_t = square_root(1.0f - sin2_t);
+  const T sin2_t = max_of(T(0), T(1) - cos_i * cos_i) / (eta * eta);
+  if (sin2_t >= T(1)) return false;
+  const T cos_t = square_root(T(1) - sin2_t);
   wt = -wo / eta + m * (cos_i / eta - cos_t);
   return true;
 }

@@ -38,6 +38,10 @@ TEST_CASE("chi-square maps: three panels, the sampler fits its pdf and the wrong
   const fs::path folder = rt::testing::temp_folder("rt_ch12_chi2");
   for (const char* arguments :
        {"--material rough-glass --roughness 0.5 --theta 40",
+        // rough glass, energy compensated, at alpha 0.05, 0.3 and 1
+        "--material rough-glass --roughness 0.2236 --theta 60",
+        "--material rough-glass --roughness 0.5477 --theta 30",
+        "--material rough-glass --roughness 1 --theta 70",
         "--material gold --roughness 0.3 --theta 70", "--material white --theta 20"}) {
     const fs::path image = folder / "maps.png";
     fs::remove(image);
