@@ -214,22 +214,24 @@ done
 python3 tools/diagrams/ch11b.py "$img" "$scratch" book/data/11b_samplers_cpu_room.json
 
 # Chapter 12: the material room (its glTF camera) at 320x240 and 128 samples per pixel; the
-# roughness series of gold, glass and a white metal, the metal also without energy
-# compensation; the chi-square maps of three samplers (observed | expected | a wrong twin);
-# the furnace spheres as radiance (.pfm), and the camera inside the glass one, drawn in false
-# colour by the chapter's diagram script; and aliasing along a floor whose checkerboard is 16
-# times finer than the room's (128 squares a side on 1024 texels, from
-# tools/make-material-room.py's checkerboard), point-sampled and trilinear, at 4 samples per
-# pixel.
+# roughness series of gold, glass and a white metal, the metal and the glass also without
+# energy compensation; the chi-square maps of three samplers (observed | expected | a wrong
+# twin); the furnace spheres as radiance (.pfm), the camera inside the glass one, and rough
+# glass with and without its compensation, drawn in false colour by the chapter's diagram
+# script; and aliasing along a floor whose checkerboard is 16 times finer than the room's
+# (128 squares a side on 1024 texels, from tools/make-material-room.py's checkerboard),
+# point-sampled and trilinear, at 4 samples per pixel.
 "$bin/ch12_materials" --headless --backend cpu --width 320 --height 240 --spp 128 \
   --sampler independent --image-only --output "$img/12_room.png" >/dev/null
 for series in gold glass white-metal; do
   "$bin/ch12_materials" --headless --backend cpu --series "$series" --width 480 --height 192 \
     --sampler independent --spp 64 --image-only --output "$img/12_series_$series.png" >/dev/null
 done
-"$bin/ch12_materials" --headless --backend cpu --series white-metal --no-compensation \
-  --sampler independent --width 480 --height 192 --spp 64 --image-only \
-  --output "$img/12_series_white-metal_no_compensation.png" >/dev/null
+for series in white-metal glass; do
+  "$bin/ch12_materials" --headless --backend cpu --series "$series" --no-compensation \
+    --sampler independent --width 480 --height 192 --spp 64 --image-only \
+    --output "$img/12_series_${series}_no_compensation.png" >/dev/null
+done
 "$bin/ch12_chi2_maps" --material rough-glass --roughness 0.5 --theta 50 \
   --output "$img/12_chi2_rough_glass.png" >/dev/null
 "$bin/ch12_chi2_maps" --material gold --roughness 0.3 --theta 60 \
@@ -246,6 +248,16 @@ furnace rough_glass --furnace rough-glass --roughness 0.6
 furnace metal --furnace white-metal --roughness 1
 furnace metal_plain --furnace white-metal --roughness 1 --no-compensation
 furnace inside --furnace glass --eye 0,0,0 --target 0,0,-1
+# Rough glass of index 1.5 in the furnace at five roughnesses, one scattering only and with
+# Turquin's scale (12_furnace_glass.png).
+for roughness in 0 0.25 0.5 0.75 1; do
+  "$bin/ch12_materials" --headless --backend cpu --width 64 --height 64 --spp 64 \
+    --sampler independent --image-only --furnace rough-glass --roughness "$roughness" \
+    --output "$scratch/12_furnace_glass_${roughness}_compensated.pfm" >/dev/null
+  "$bin/ch12_materials" --headless --backend cpu --width 64 --height 64 --spp 64 \
+    --sampler independent --image-only --furnace rough-glass --roughness "$roughness" \
+    --no-compensation --output "$scratch/12_furnace_glass_${roughness}_plain.pfm" >/dev/null
+done
 python3 tools/diagrams/ch12.py "$img" "$scratch"
 cp assets/material_room.gltf "$scratch/"
 python3 - "$scratch/material_room_floor.png" <<'PYTHON'

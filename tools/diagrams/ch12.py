@@ -2,9 +2,9 @@
 """Chapter 12's diagrams (book/images/12_*.svg, and 12_furnace.png): microfacets with masking
 and shadowing; Fresnel reflectance against angle (glass, gold and copper, exact and Schlick);
 Snell's law and total internal reflection; the two visible-normal samplers (Heitz's projected
-hemisphere, Dupuy and Benyoub's spherical cap); the energy a white rough metal loses to single
-scattering, by Monte Carlo; and, given a folder of furnace renders (.pfm), their radiance in
-false colour.
+hemisphere, Dupuy and Benyoub's spherical cap); the energy a white rough metal and rough glass
+lose to single scattering, by Monte Carlo; and, given a folder of furnace renders (.pfm), their
+radiance in false colour.
 
   tools/diagrams/ch12.py [OUT_DIR] [FURNACE_DIR]     (default: book/images, no furnace)
 """
@@ -391,6 +391,68 @@ def energy_loss(out):
     save(fig, out / "12_energy_loss.svg")
 
 
+def dielectric_scattering(mu, alpha, eta, rng, samples=20000):
+    """E(mu, alpha, eta) of a rough dielectric, reflection and refraction together, radiance
+    factor left out: Dupuy and Benyoub's visible normals, each weighted by what it returns,
+    F G2(wo, wr) / G1(wo) + (1 - F) G2(wo, wt) / G1(wo). eta: the far side's index over wo's."""
+    wo = np.array([math.sqrt(max(0.0, 1 - mu * mu)), 0.0, mu])
+    view = np.array([alpha * wo[0], 0.0, wo[2]])
+    view /= np.linalg.norm(view)
+    u, v = rng.random(samples), rng.random(samples)
+    z = (1 - v) * (1 + view[2]) - view[2]
+    sin_theta = np.sqrt(np.maximum(0, 1 - z * z))
+    n = np.stack([sin_theta * np.cos(2 * np.pi * u) + view[0],
+                  sin_theta * np.sin(2 * np.pi * u), z + view[2]], axis=1)
+    m = np.stack([alpha * n[:, 0], alpha * n[:, 1], np.maximum(n[:, 2], 0)], axis=1)
+    m /= np.maximum(np.linalg.norm(m, axis=1), 1e-30)[:, None]
+    c = np.clip(m @ wo, 0, 1)
+    sin2_t = (1 - c * c) / (eta * eta)
+    cos_t = np.sqrt(np.maximum(0, 1 - sin2_t))
+    parallel = (eta * c - cos_t) / (eta * c + cos_t)
+    perpendicular = (c - eta * cos_t) / (c + eta * cos_t)
+    fresnel = np.where(sin2_t >= 1, 1.0, 0.5 * (parallel ** 2 + perpendicular ** 2))
+    lambda_o = lambda_ggx(wo[2], wo[0] ** 2, alpha)
+
+    def kept(w, side):  # G2(wo, w) / G1(wo), where w lies on its side of the surface
+        ok = w[:, 2] * side > 0
+        lambda_w = lambda_ggx(np.where(ok, w[:, 2], 1.0), w[:, 0] ** 2 + w[:, 1] ** 2, alpha)
+        return np.where(ok, (1 + lambda_o) / (1 + lambda_o + lambda_w), 0.0)
+
+    reflected = 2 * c[:, None] * m - wo
+    refracted = -wo / eta + m * (c / eta - cos_t)[:, None]
+    weight = fresnel * kept(reflected, 1) + (1 - fresnel) * kept(refracted, -1)
+    return float(np.where(c > 0, weight, 0.0).mean())
+
+
+def glass_energy_loss(out):
+    rng = np.random.default_rng(13)
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    roughnesses = np.linspace(0.0, 1.0, 11)
+    nodes = np.linspace(0.0, 1.0, 17) ** 2  # E_avg = 2 ∫ E mu dmu, trapezoids in mu
+    for eta, colour in ((1.5, BLUE), (2.4, RED)):
+        for side, style in (("outside", "-"), ("inside", "--")):
+            lost = []
+            for roughness in roughnesses:
+                alpha = max(roughness * roughness, 1e-4)
+                ratio = eta if side == "outside" else 1 / eta
+                e = np.array([dielectric_scattering(max(mu, 1e-3), alpha, ratio, rng)
+                              for mu in nodes])
+                average = float(np.sum((e[1:] * nodes[1:] + e[:-1] * nodes[:-1]) *
+                                       np.diff(nodes)))
+                lost.append(1 - average)
+            ax.plot(roughnesses, lost, color=colour, linestyle=style, marker="o", markersize=3,
+                    label=f"η = {eta}, light from {side}")
+            print(f"glass eta {eta} from {side}: 1 - E_avg by roughness "
+                  + ", ".join(f"{r:.1f}: {x:.3f}" for r, x in zip(roughnesses, lost)))
+    ax.set_xlabel("roughness (alpha = roughness²)")
+    ax.set_ylabel("1 − E_avg: the share one scattering loses")
+    ax.set_title("Rough glass, reflection and refraction together", fontsize=10)
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, None)
+    ax.legend(fontsize=8, loc="upper left")
+    save(fig, out / "12_glass_energy_loss.svg")
+
+
 # ------------------------------------------------------------------------------------------
 # The furnace renders in false colour.
 
@@ -403,10 +465,21 @@ def read_pfm(path):
     return data.reshape(height, width, 3)[::-1]  # the file holds the bottom row first
 
 
-FURNACES = (("glass", "smooth glass"), ("rough_glass", "rough glass,\nroughness 0.6"),
+FURNACES = (("glass", "smooth glass"),
+            ("rough_glass", "rough glass, roughness 0.6,\ncompensated"),
             ("metal", "white metal, roughness 1,\ncompensated"),
             ("metal_plain", "white metal, roughness 1,\nno compensation"),
             ("inside", "the camera inside\nthe smooth glass"))
+
+
+def sphere_masks(image):
+    """The furnace sphere's disc (radius 1 at distance 4 seen through a 30° field of view) and
+    its centre, as masks over the image."""
+    h, w = image.shape
+    y, x = np.mgrid[0:h, 0:w]
+    radius = math.tan(math.asin(0.25)) / math.tan(math.radians(15)) * h / 2
+    distance2 = (x + 0.5 - w / 2) ** 2 + (y + 0.5 - h / 2) ** 2
+    return distance2 < (radius * 0.97) ** 2, distance2 < (radius * 0.1) ** 2
 
 
 def furnace(out, folder):
@@ -414,12 +487,7 @@ def furnace(out, folder):
     norm = matplotlib.colors.TwoSlopeNorm(vmin=0.0, vcenter=1.0, vmax=2.5)
     for ax, (name, title) in zip(axes, FURNACES):
         image = read_pfm(folder / f"12_furnace_{name}.pfm").mean(axis=2)
-        h, w = image.shape
-        y, x = np.mgrid[0:h, 0:w]
-        # The sphere's disc: radius 1 at distance 4 seen through a 30° field of view.
-        radius = math.tan(math.asin(0.25)) / math.tan(math.radians(15)) * h / 2
-        disc = (x + 0.5 - w / 2) ** 2 + (y + 0.5 - h / 2) ** 2 < (radius * 0.97) ** 2
-        centre = (x + 0.5 - w / 2) ** 2 + (y + 0.5 - h / 2) ** 2 < (radius * 0.1) ** 2
+        disc, centre = sphere_masks(image)
         if name == "inside":  # every pixel sees the sky through the glass
             disc = np.ones_like(disc)
         shown = ax.imshow(image, cmap="RdBu", norm=norm)
@@ -435,6 +503,35 @@ def furnace(out, folder):
     plt.close(fig)
 
 
+GLASS_ROUGHNESSES = ("0", "0.25", "0.5", "0.75", "1")
+
+
+def furnace_glass(out, folder):
+    """Rough glass spheres (index 1.5) in the furnace, one scattering only above, with Turquin's
+    scale below."""
+    fig, axes = plt.subplots(2, len(GLASS_ROUGHNESSES), figsize=(12, 5.6))
+    norm = matplotlib.colors.TwoSlopeNorm(vmin=0.0, vcenter=1.0, vmax=2.0)
+    for row, (kind, label) in enumerate((("plain", "no compensation"),
+                                         ("compensated", "compensated"))):
+        for ax, roughness in zip(axes[row], GLASS_ROUGHNESSES):
+            image = read_pfm(folder / f"12_furnace_glass_{roughness}_{kind}.pfm").mean(axis=2)
+            disc, centre = sphere_masks(image)
+            shown = ax.imshow(image, cmap="RdBu", norm=norm)
+            ax.axis("off")
+            ax.set_title(f"roughness {roughness}\nmean {image[disc].mean():.3f}, "
+                         f"centre {image[centre].mean():.3f}", fontsize=8)
+            if roughness == GLASS_ROUGHNESSES[0]:
+                ax.text(-0.08, 0.5, label, transform=ax.transAxes, rotation=90,
+                        ha="right", va="center", fontsize=9)
+            print(f"glass {roughness} {kind}: mean over the sphere {image[disc].mean():.4f}, "
+                  f"at its centre {image[centre].mean():.4f}")
+    bar = fig.colorbar(shown, ax=axes, fraction=0.02, pad=0.02)
+    bar.set_label("radiance (the sky is 1)")
+    fig.savefig(out / "12_furnace_glass.png", dpi=100, bbox_inches="tight",
+                metadata={"Software": None})
+    plt.close(fig)
+
+
 def main():
     plt.rcParams.update({"svg.hashsalt": "rt-course-ch12", "font.family": "DejaVu Sans"})
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("book/images")
@@ -444,8 +541,10 @@ def main():
     snell(out)
     vndf(out)
     energy_loss(out)
+    glass_energy_loss(out)
     if len(sys.argv) > 2:
         furnace(out, Path(sys.argv[2]))
+        furnace_glass(out, Path(sys.argv[2]))
 
 
 if __name__ == "__main__":
