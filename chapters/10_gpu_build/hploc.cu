@@ -260,19 +260,19 @@ void walk_up(Backend backend, const HplocWalk& walk) {
 #endif
 }
 
-// Every node's place in chapter 07's arrays, counted on the way up, and a leaf's triangle
-// slot: the same counting as PLOC's (ploc.cu), over the same kind of tree.
+// Interior node j's place in chapter 07's arrays and the slot of its first leaf, counted on
+// the way up as PLOC's are (ploc.cu). Only interior nodes walk: a leaf's slot follows from its
+// parent's first slot (WriteClusters), and a leaf may sit one level below the deepest
+// interior node allowed, so the interior nodes' depth check is the whole tree's.
 struct PlaceClusters {
   ClusterTree tree;
-  int* index; // of each interior node
-  int* slot;  // of each leaf
+  int* index;      // of each interior node
+  int* first_slot; // of each interior node's first leaf
   int* too_deep;
-  RT_HD void operator()(int id) const {
-    // A leaf may sit one level below the deepest interior node allowed.
-    const int deepest = id < tree.n ? ch07::k_max_bvh_depth : ch07::k_max_bvh_depth - 1;
+  RT_HD void operator()(int j) const {
     int place = 0, leaf_slot = 0, depth = 0;
-    for (int x = id; tree.parents[x] >= 0;) {
-      if (++depth > deepest) {
+    for (int x = tree.n + j; tree.parents[x] >= 0;) {
+      if (++depth > ch07::k_max_bvh_depth - 1) {
         mark(too_deep);
         return;
       }
@@ -283,11 +283,8 @@ struct PlaceClusters {
       leaf_slot += right ? tree.leaf_counts[left] : 0;
       x = tree.n + parent;
     }
-    if (id < tree.n) {
-      slot[id] = leaf_slot;
-    } else {
-      index[id - tree.n] = place;
-    }
+    index[j] = place;
+    first_slot[j] = leaf_slot;
   }
 };
 
@@ -298,7 +295,7 @@ struct PlaceClusters {
 // need not run.
 struct WriteClusters {
   ClusterTree tree;
-  const int *index, *slot, *sorted_ids;
+  const int *index, *first_slot, *sorted_ids;
   MeshView mesh;
   BvhNode* out;
   TriangleF* triangles;
@@ -309,12 +306,14 @@ struct WriteClusters {
     for (int c = 0; c < 2; ++c) {
       const int child = tree.nodes[j].child[c];
       const bool leaf = child < tree.n;
+      // A leaf on the right comes after all the leaves of the left child.
+      const int slot = first_slot[j] + (c == 1 ? tree.leaf_counts[tree.nodes[j].child[0]] : 0);
       written.box[c] = tree.boxes[child];
-      written.first[c] = leaf ? slot[child] : index[child - tree.n];
+      written.first[c] = leaf ? slot : index[child - tree.n];
       written.count[c] = leaf ? 1 : 0;
       if (leaf) {
-        triangles[slot[child]] = mesh.triangle(sorted_ids[child]);
-        triangle_ids[slot[child]] = sorted_ids[child];
+        triangles[slot] = mesh.triangle(sorted_ids[child]);
+        triangle_ids[slot] = sorted_ids[child];
       }
     }
     out[at] = written;
@@ -326,15 +325,15 @@ struct HplocArrays {
   BackendArray<Aabb> boxes;
   BackendArray<int> leaf_counts, parents;
   BackendArray<ClusterPair> nodes;
-  BackendArray<int> clusters, far_ends, index, slot, triangle_ids;
+  BackendArray<int> clusters, far_ends, index, first_slot, triangle_ids;
   BackendArray<int> status; // the node counter and the too-deep flag: one read at the end
   BackendArray<BvhNode> out_nodes;
   BackendArray<TriangleF> triangles;
   HplocArrays(Backend backend, int n)
       : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
         nodes(backend, n - 1), clusters(backend, n), far_ends(backend, n - 1),
-        index(backend, n - 1), slot(backend, n), triangle_ids(backend, n), status(backend, 2),
-        out_nodes(backend, n - 1), triangles(backend, n) {}
+        index(backend, n - 1), first_slot(backend, n - 1), triangle_ids(backend, n),
+        status(backend, 2), out_nodes(backend, n - 1), triangles(backend, n) {}
   ClusterTree tree(int n) {
     return {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()};
   }
@@ -356,12 +355,12 @@ std::optional<GpuBuild> hploc_tree(Backend backend, const ch04::Mesh& mesh, int 
                              a.clusters.data(), a.far_ends.data()});
   walk_up(backend, HplocWalk{tree, order.sorted_codes.data(), a.far_ends.data(),
                              a.clusters.data(), a.status.data(), radius, threshold});
-  for_each_index(backend, 2 * n - 1,
-                 PlaceClusters{tree, a.index.data(), a.slot.data(), a.status.data() + 1});
   for_each_index(backend, n - 1,
-                 WriteClusters{tree, a.index.data(), a.slot.data(), order.sorted_ids.data(),
-                               order.mesh, a.out_nodes.data(), a.triangles.data(),
-                               a.triangle_ids.data()});
+                 PlaceClusters{tree, a.index.data(), a.first_slot.data(), a.status.data() + 1});
+  for_each_index(backend, n - 1,
+                 WriteClusters{tree, a.index.data(), a.first_slot.data(),
+                               order.sorted_ids.data(), order.mesh, a.out_nodes.data(),
+                               a.triangles.data(), a.triangle_ids.data()});
   const std::vector<int> status = a.status.to_host();
   if (status[0] != n - 1)
     throw Error("H-PLOC made " + std::to_string(status[0]) + " nodes for " + std::to_string(n) +
