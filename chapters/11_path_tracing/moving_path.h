@@ -35,8 +35,8 @@ public:
   ch09::Wide4PackedBvh wide_tree() const { return frames_.wide_tree(); }
 
 private:
-  ch10::MovingFrames frames_;             // vertices, tree and collapse, on the backend
-  BackendArray<int> material_;            // per triangle: uploaded once, never moves
+  ch10::MovingFrames frames_;  // vertices, tree and collapse, on the backend
+  BackendArray<int> material_; // per triangle: uploaded once, never moves
   BackendArray<PathMaterial> materials_;
 };
 // [/listing:moving_path_renderer]

@@ -123,7 +123,8 @@ TEST_CASE("moving on the backend: against a renderer of moving_path_scene's own 
   MovingPathRenderer moving(lit_scene(0.0, nullptr), Backend::cpu, k_detail);
   run_frames(moving, frames, 4);
   const std::vector<float4> a = moving.sums();
-  const std::vector<float4> b = fresh_sums(lit_scene(time_of(frames), nullptr), Backend::cpu, 4);
+  const std::vector<float4> b =
+      fresh_sums(lit_scene(time_of(frames), nullptr), Backend::cpu, 4);
   // Vertices 2e-5 apart move a camera ray's hit point by as little; a path's later
   // directions come from the same numbers, so a pixel changes in its last bits only (here
   // 178 of 1 200 pixels differ, by at most 1e-6 of their sums), unless a ray passes within
@@ -157,8 +158,8 @@ TEST_CASE("moving on the backend: the waving model moves as chapter 10's, and re
   later.mesh.vertices = moved;
   CHECK(same_sums(moving.sums(), fresh_sums(later, Backend::cpu, 3)));
   // The model is in the picture: without it (the torus in its place), another image.
-  CHECK_FALSE(same_sums(moving.sums(), fresh_sums(lit_scene(time_of(frames), nullptr),
-                                                  Backend::cpu, 3)));
+  CHECK_FALSE(same_sums(moving.sums(),
+                        fresh_sums(lit_scene(time_of(frames), nullptr), Backend::cpu, 3)));
 }
 
 TEST_CASE("moving on the backend: a scene that emits, or another scene's triangles, is "
@@ -196,8 +197,9 @@ TEST_CASE("moving on the backend: the report's row gives the frame's four parts"
       CHECK(value >= 0.0);
       parts += value;
     }
-  CHECK(std::abs(parts - row.ms_per_frame) <= 1e-9 * std::max(1.0, row.ms_per_frame)); // the row is their sum
-  CHECK(moving.samples() == 1); // the last frame's one sample
+  CHECK(std::abs(parts - row.ms_per_frame) <=
+        1e-9 * std::max(1.0, row.ms_per_frame)); // the row is their sum
+  CHECK(moving.samples() == 1);                  // the last frame's one sample
 }
 
 TEST_CASE("program: --moving --scene path-traces the model waving in the torus's place",
