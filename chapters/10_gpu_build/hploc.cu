@@ -10,7 +10,7 @@
 
 #include "build_passes.cuh"
 #include "bvh_build.h"
-#include "hploc.h"
+#include "hploc_walk.h"
 #include "model_render.h"
 #include "rt/error.h"
 
@@ -39,218 +39,40 @@ struct StartLeaves {
   }
 };
 
-// What the walk reads and writes.
-struct HplocWalk {
-  ClusterTree tree;
-  const std::uint32_t* codes; // sorted
-  int* far_ends;              // n - 1: the first arrival's far end at each node, or -1
-  int* clusters;              // n: each subtree's list, from the start of its range
-  int* node_counter;          // interior nodes made so far
-  int radius, threshold;
-  // The most clusters a completed subtree's list keeps: the threshold, one at the root.
-  RT_HD int target(int first, int last) const {
-    return first == 0 && last == tree.n - 1 ? 1 : threshold;
-  }
-};
-
-// ---- The CPU backend: a thread per leaf, the warp's lanes in a loop -------------------------
-
-// New nodes from the shared counter, written into the tree.
-struct CpuNodes {
-  const HplocWalk& walk;
-  int reserve(int count) { return walk.tree.n + reserve_nodes(walk.node_counter, count); }
-  void write(int node, int left, int right, const Aabb& box, int leaves) {
-    write_cluster_node(walk.tree, node, left, right, box, leaves);
-  }
-};
-
-// The two children's lists side by side: the left child's from `first`, the right child's
-// from `split`, each up to its first -1 or its slots_to_read.
-ClusterList gather_lists(const HplocWalk& walk, int first, int split, int last) {
-  ClusterList list;
-  for (int side = 0; side < 2; ++side) {
-    const int start = side == 0 ? first : split;
-    const int slots =
-        slots_to_read(side == 0 ? split - first : last - split + 1, walk.threshold);
-    for (int k = 0; k < slots; ++k) {
-      const int id = walk.clusters[start + k];
-      if (id < 0) break;
-      list.id[list.count] = id;
-      list.box[list.count] = walk.tree.boxes[id];
-      list.leaves[list.count] = walk.tree.leaf_counts[id];
-      ++list.count;
-    }
-  }
-  return list;
-}
-
-void climb_on_cpu(const HplocWalk& walk, int leaf) {
-  const int n = walk.tree.n;
-  int first = leaf, last = leaf, split = 0;
-  CpuNodes nodes{walk};
-  while (climb(walk.codes, n, walk.far_ends, first, last, split)) {
-    if (!gathers(first, last, n, walk.threshold)) continue;
-    ClusterList list = gather_lists(walk, first, split, last);
-    merge_cluster_list(list, walk.target(first, last), walk.radius, nodes);
-    for (int k = 0; k < list.count; ++k) walk.clusters[first + k] = list.id[k];
-    if (list.count < slots_to_read(last - first + 1, walk.threshold))
-      walk.clusters[first + list.count] = -1;
-    if (first == 0 && last == n - 1) return;
-  }
-}
-
-// ---- The GPU backend: a thread per leaf, a warp per list ------------------------------------
-
 #if RT_DEVICE_CODE_POSSIBLE
 constexpr unsigned k_all_lanes = 0xffffffffu;
 constexpr int k_hploc_block = 128; // threads per block of the walk: four warps
 
-// A box from another lane, six shuffles.
-__device__ Aabb shuffle_box(const Aabb& box, int from) {
-  Aabb out;
-  out.lo = {__shfl_sync(k_all_lanes, box.lo.x, from), __shfl_sync(k_all_lanes, box.lo.y, from),
-            __shfl_sync(k_all_lanes, box.lo.z, from)};
-  out.hi = {__shfl_sync(k_all_lanes, box.hi.x, from), __shfl_sync(k_all_lanes, box.hi.y, from),
-            __shfl_sync(k_all_lanes, box.hi.z, from)};
-  return out;
-}
-
-// Boxes another thread wrote during the walk, read past the L1 cache (refit.h's reason).
-__device__ Aabb load_box(const Aabb& box) {
-  const volatile float* f = &box.lo.x;
-  Aabb out;
-  out.lo = {f[0], f[1], f[2]};
-  out.hi = {f[3], f[4], f[5]};
-  return out;
-}
-__device__ int load_int(const int* p) { return *static_cast<const volatile int*>(p); }
-
-// [listing:hploc_nearest_warp]
-// nearest_cluster on the warp: the lane computes the cost of its merge with the lane d places
-// to its right, whose box comes down by a shuffle, and hands the cost up to that lane by
-// another, so each of the 2 * radius candidates costs one box shuffle per pair, not one per
-// lane. The costs are merge_cost's, left box first, as on the CPU; better_candidate makes the
-// order they come in irrelevant.
-__device__ int nearest_on_warp(int lane, int count, int radius, const Aabb& own) {
-  int best = -1;
-  float best_cost = 0.0f;
-  for (int d = 1; d <= radius; ++d) {
-    Aabb right;
-    right.lo = {__shfl_down_sync(k_all_lanes, own.lo.x, d),
-                __shfl_down_sync(k_all_lanes, own.lo.y, d),
-                __shfl_down_sync(k_all_lanes, own.lo.z, d)};
-    right.hi = {__shfl_down_sync(k_all_lanes, own.hi.x, d),
-                __shfl_down_sync(k_all_lanes, own.hi.y, d),
-                __shfl_down_sync(k_all_lanes, own.hi.z, d)};
-    const float cost = merge_cost(own, right); // with lane + d, if it is in the list
-    const float from_left = __shfl_up_sync(k_all_lanes, cost, d); // lane - d's, with this lane
-    if (lane + d < count && better_candidate(cost, lane + d, best_cost, best)) {
-      best = lane + d;
-      best_cost = cost;
-    }
-    if (lane < count && lane - d >= 0 &&
-        better_candidate(from_left, lane - d, best_cost, best)) {
-      best = lane - d;
-      best_cost = from_left;
-    }
+// The warp's collective operations for walk_on_warp (hploc_walk.h): CUDA's intrinsics over
+// all 32 lanes.
+struct DeviceWarp {
+  __device__ unsigned ballot(bool p) const { return __ballot_sync(k_all_lanes, p); }
+  __device__ bool any(bool p) const { return __any_sync(k_all_lanes, p) != 0; }
+  __device__ int shfl(int v, int from) const { return __shfl_sync(k_all_lanes, v, from); }
+  __device__ float shfl(float v, int from) const { return __shfl_sync(k_all_lanes, v, from); }
+  __device__ float shfl_down(float v, int d) const {
+    return __shfl_down_sync(k_all_lanes, v, d);
   }
-  return best;
-}
-// [/listing:hploc_nearest_warp]
-
-// [listing:hploc_merge_warp]
-// The list of the subtree first..last, merged by the whole warp, one cluster per lane: lanes
-// 0-15 read the left child's list, lanes 16-31 the right child's, a vote counts each, and
-// shuffles close the gap. Then merge_cluster_list's steps, a lane each: the nearest
-// neighbour through shuffles, the mutual pairs by a vote, one atomic for the warp's new
-// nodes, and the list closed up by shuffles from the lanes that stay.
-__device__ void merge_on_warp(const HplocWalk& walk, int lane, int first, int split, int last) {
-  const int half = lane / k_hploc_threshold, slot = lane % k_hploc_threshold;
-  const int start = half == 0 ? first : split;
-  const int size = half == 0 ? split - first : last - split + 1;
-  int id =
-      slot < slots_to_read(size, walk.threshold) ? load_int(&walk.clusters[start + slot]) : -1;
-  const unsigned missing = __ballot_sync(k_all_lanes, id < 0);
-  const int left_count = __ffs((missing & 0xffffu) | 0x10000u) - 1;
-  const int right_count = __ffs((missing >> 16) | 0x10000u) - 1;
-  int count = left_count + right_count;
-  id = __shfl_sync(k_all_lanes, id,
-                   lane < left_count ? lane : k_hploc_threshold + lane - left_count);
-  Aabb box;
-  int leaves = 0;
-  if (lane < count) {
-    box = load_box(walk.tree.boxes[id]);
-    leaves = load_int(&walk.tree.leaf_counts[id]);
+  __device__ float shfl_up(float v, int d) const { return __shfl_up_sync(k_all_lanes, v, d); }
+  __device__ void publish() const {
+    __threadfence();
+    __syncwarp();
   }
-  const int target = walk.target(first, last);
-  while (count > target) {
-    const int j = nearest_on_warp(lane, count, walk.radius, box);
-    const int back = __shfl_sync(k_all_lanes, j, j < 0 ? lane : j);
-    const bool mutual = lane < count && j >= 0 && back == lane;
-    const unsigned makes = __ballot_sync(k_all_lanes, mutual && lane < j);
-    const unsigned stays = __ballot_sync(k_all_lanes, lane < count && !(mutual && lane > j));
-    int first_node = 0;
-    if (lane == 0)
-      first_node = walk.tree.n + reserve_nodes(walk.node_counter, count_bits(makes));
-    first_node = __shfl_sync(k_all_lanes, first_node, 0);
-    const bool make = (makes >> lane & 1u) != 0;
-    const int partner = make ? j : lane;
-    const Aabb partner_box = shuffle_box(box, partner);
-    const int partner_id = __shfl_sync(k_all_lanes, id, partner);
-    const int partner_leaves = __shfl_sync(k_all_lanes, leaves, partner);
-    if (make) {
-      box.grow(partner_box);
-      leaves += partner_leaves;
-      const int node = first_node + count_bits(makes & lanes_below(lane));
-      write_cluster_node(walk.tree, node, id, partner_id, box, leaves);
-      id = node;
-    }
-    count = count_bits(stays);
-    const int from = lane < count ? nth_set_bit(stays, lane) : lane;
-    id = __shfl_sync(k_all_lanes, id, from);
-    box = shuffle_box(box, from);
-    leaves = __shfl_sync(k_all_lanes, leaves, from);
-  }
-  if (lane < count) walk.clusters[first + lane] = id;
-  if (lane == count && count < slots_to_read(last - first + 1, walk.threshold))
-    walk.clusters[first + lane] = -1;
-  __threadfence(); // this lane's nodes and list, seen before the owner's exchange
-  __syncwarp();
-}
-// [/listing:hploc_merge_warp]
+};
 
-// [listing:hploc_kernel]
-// The whole walk in one kernel. Every lane stays in the loop until no lane of its warp
-// climbs, because the merges need all 32; after each step up, the lanes whose subtree needs
-// its list looked at are taken one at a time (a vote lists them), the warp merging each.
+// The whole walk in one kernel, a thread per leaf.
 __global__ void hploc_kernel(HplocWalk walk) {
-  const int n = walk.tree.n;
-  const int leaf = blockIdx.x * blockDim.x + threadIdx.x;
-  const int lane = threadIdx.x % k_warp_lanes;
-  int first = leaf, last = leaf, split = 0;
-  bool climbing = leaf < n;
-  while (__any_sync(k_all_lanes, climbing)) {
-    if (climbing) climbing = climb(walk.codes, n, walk.far_ends, first, last, split);
-    unsigned waiting =
-        __ballot_sync(k_all_lanes, climbing && gathers(first, last, n, walk.threshold));
-    while (waiting != 0) {
-      const int owner = __ffs(waiting) - 1;
-      waiting &= waiting - 1;
-      merge_on_warp(walk, lane, __shfl_sync(k_all_lanes, first, owner),
-                    __shfl_sync(k_all_lanes, split, owner),
-                    __shfl_sync(k_all_lanes, last, owner));
-    }
-    if (first == 0 && last == n - 1) climbing = false; // the root: done
-  }
+  DeviceWarp warp;
+  walk_on_warp(warp, walk, static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x),
+               static_cast<int>(threadIdx.x % k_warp_lanes));
 }
-// [/listing:hploc_kernel]
 #endif
 
 void walk_up(Backend backend, const HplocWalk& walk) {
   const int n = walk.tree.n;
   if (backend == Backend::cpu) {
     for_each_index_cpu(
-        static_cast<std::size_t>(n), [&](std::size_t leaf) { climb_on_cpu(walk, int(leaf)); },
+        static_cast<std::size_t>(n), [&](std::size_t leaf) { walk_on_cpu(walk, int(leaf)); },
         cpu_thread_count(), "leaves");
     return;
   }

@@ -2,7 +2,8 @@
 // share. One bottom-up walk over the LBVH's hierarchy carries, for every subtree, a short list
 // of clusters instead of one node; where a list grows past a threshold, PLOC runs inside it.
 // On the GPU a warp merges a list together, one cluster per lane; on CPU threads the same
-// steps run with the lanes in a loop (merge_cluster_list). See gpu_build.h for the builder.
+// steps run with the lanes in a loop (merge_cluster_list). hploc_walk.h has the walk itself,
+// gpu_build.h the builder.
 #pragma once
 
 #include <cstdint>

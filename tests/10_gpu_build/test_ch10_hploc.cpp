@@ -5,7 +5,10 @@
 // leaking out of closed meshes; bad input refused. The [gpu] cases: the GPU's tree is the CPU
 // threads', bit for bit.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <limits>
 #include <random>
 #include <string>
@@ -22,9 +25,12 @@
 #include "gpu_build.h"
 #include "gpu_guard.h"
 #include "hploc.h"
+#include "hploc_walk.h"
 #include "leak_configurations.h"
 #include "rt/error.h"
 #include "wide_collapse.h"
+
+#include <ucontext.h>
 
 using namespace rt;
 using namespace rt::ch10;
@@ -156,6 +162,195 @@ Mesh huge_soup() {
   return mesh;
 }
 
+// The 32 lanes of a warp as fibers on the calling thread: each runs until it calls one of
+// the warp's collective operations, and when every lane has, the operation's results are
+// handed out and the lanes go on. So walk_on_warp, the GPU's code, runs here as on a warp, in
+// lockstep; and a collective that not every lane calls, or not the same one, is caught.
+class FiberWarp {
+public:
+  enum class Op { none, ballot, any, shfl, shfl_down, shfl_up, publish };
+
+  // What walk_on_warp calls: lane `lane` of this warp.
+  struct Lane {
+    FiberWarp* warp;
+    int lane;
+    unsigned ballot(bool p) { return warp->collective(lane, Op::ballot, p, 0); }
+    bool any(bool p) { return warp->collective(lane, Op::any, p, 0) != 0; }
+    int shfl(int v, int from) {
+      return static_cast<int>(
+          warp->collective(lane, Op::shfl, std::bit_cast<unsigned>(v), from));
+    }
+    float shfl(float v, int from) {
+      return std::bit_cast<float>(
+          warp->collective(lane, Op::shfl, std::bit_cast<unsigned>(v), from));
+    }
+    float shfl_down(float v, int d) {
+      return std::bit_cast<float>(
+          warp->collective(lane, Op::shfl_down, std::bit_cast<unsigned>(v), d));
+    }
+    float shfl_up(float v, int d) {
+      return std::bit_cast<float>(
+          warp->collective(lane, Op::shfl_up, std::bit_cast<unsigned>(v), d));
+    }
+    void publish() { warp->collective(lane, Op::publish, 0, 0); }
+  };
+
+  // Runs body(lane) on all 32 lanes to their end; false if the lanes fell out of step.
+  bool run(std::function<void(Lane&)> body) {
+    body_ = std::move(body);
+    current_ = this;
+    for (int lane = 0; lane < k_warp_lanes; ++lane) {
+      stacks_[lane].assign(256 * 1024, 0);
+      getcontext(&lanes_[lane]);
+      lanes_[lane].uc_stack.ss_sp = stacks_[lane].data();
+      lanes_[lane].uc_stack.ss_size = stacks_[lane].size();
+      lanes_[lane].uc_link = &scheduler_;
+      makecontext(&lanes_[lane], reinterpret_cast<void (*)()>(&FiberWarp::start), 1, lane);
+      done_[lane] = false;
+    }
+    for (;;) {
+      for (int lane = 0; lane < k_warp_lanes; ++lane) {
+        op_[lane] = Op::none;
+        swapcontext(&scheduler_, &lanes_[lane]);
+      }
+      int finished = 0;
+      for (int lane = 0; lane < k_warp_lanes; ++lane) finished += done_[lane];
+      if (finished == k_warp_lanes) return true;
+      if (finished != 0) return false; // some lanes left while others still call
+      for (int lane = 1; lane < k_warp_lanes; ++lane)
+        if (op_[lane] != op_[0]) return false;
+      settle();
+    }
+  }
+
+private:
+  static void start(int lane) {
+    FiberWarp* self = current_;
+    Lane me{self, lane};
+    self->body_(me);
+    self->done_[lane] = true; // uc_link returns to the scheduler
+  }
+
+  unsigned collective(int lane, Op op, unsigned value, int argument) {
+    op_[lane] = op;
+    value_[lane] = value;
+    argument_[lane] = argument;
+    swapcontext(&lanes_[lane], &scheduler_);
+    return result_[lane];
+  }
+
+  // Every lane waits in the same collective: its results.
+  void settle() {
+    unsigned mask = 0;
+    for (int lane = 0; lane < k_warp_lanes; ++lane) mask |= (value_[lane] & 1u) << lane;
+    for (int lane = 0; lane < k_warp_lanes; ++lane) {
+      const int a = argument_[lane];
+      switch (op_[lane]) {
+      case Op::ballot:
+        result_[lane] = mask;
+        break;
+      case Op::any:
+        result_[lane] = mask != 0;
+        break;
+      case Op::shfl:
+        result_[lane] = value_[a % k_warp_lanes];
+        break;
+      case Op::shfl_down:
+        result_[lane] = lane + a < k_warp_lanes ? value_[lane + a] : value_[lane];
+        break;
+      case Op::shfl_up:
+        result_[lane] = lane - a >= 0 ? value_[lane - a] : value_[lane];
+        break;
+      default:
+        result_[lane] = 0;
+      }
+    }
+  }
+
+  static inline thread_local FiberWarp* current_ = nullptr;
+  std::function<void(Lane&)> body_;
+  ucontext_t scheduler_{};
+  ucontext_t lanes_[k_warp_lanes]{};
+  std::vector<char> stacks_[k_warp_lanes];
+  bool done_[k_warp_lanes]{};
+  Op op_[k_warp_lanes]{};
+  unsigned value_[k_warp_lanes]{}, result_[k_warp_lanes]{};
+  int argument_[k_warp_lanes]{};
+};
+
+// The arrays of one walk, started as hploc.cu's StartLeaves starts them, over sorted codes and
+// leaf boxes made up for the test.
+struct WalkArrays {
+  std::vector<Aabb> boxes;
+  std::vector<int> leaf_counts, parents, far_ends, clusters;
+  std::vector<ClusterPair> nodes;
+  int node_counter = 0;
+  HplocWalk walk;
+  WalkArrays(const std::vector<std::uint32_t>& codes, const std::vector<Aabb>& leaf_boxes,
+             int radius, int threshold) {
+    const int n = static_cast<int>(codes.size());
+    boxes.assign(2 * n - 1, Aabb{});
+    std::copy(leaf_boxes.begin(), leaf_boxes.end(), boxes.begin());
+    leaf_counts.assign(2 * n - 1, 1);
+    parents.assign(2 * n - 1, -1);
+    far_ends.assign(n - 1, -1);
+    clusters.resize(n);
+    for (int k = 0; k < n; ++k) clusters[k] = k;
+    nodes.resize(n - 1);
+    walk = {{n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()},
+            codes.data(),
+            far_ends.data(),
+            clusters.data(),
+            &node_counter,
+            radius,
+            threshold};
+  }
+  // The tree as one walk from its root sees it, whatever numbers its nodes got: a leaf's
+  // number, an interior node's leaf count and box bits, in depth-first order.
+  std::vector<std::uint32_t> shape() const {
+    const int n = walk.tree.n;
+    int root = -1;
+    for (int id = n; id < 2 * n - 1; ++id)
+      if (parents[id] < 0) root = id;
+    std::vector<std::uint32_t> out;
+    std::vector<int> stack = {root};
+    while (!stack.empty()) {
+      const int id = stack.back();
+      stack.pop_back();
+      if (id < 0) {
+        out.push_back(0xffffffffu);
+        continue;
+      }
+      out.push_back(static_cast<std::uint32_t>(id < n ? id : leaf_counts[id] + n));
+      if (id < n) continue;
+      for (const float f : {boxes[id].lo.x, boxes[id].lo.y, boxes[id].lo.z, boxes[id].hi.x,
+                            boxes[id].hi.y, boxes[id].hi.z})
+        out.push_back(std::bit_cast<std::uint32_t>(f));
+      stack.push_back(nodes[id - n].child[1]);
+      stack.push_back(nodes[id - n].child[0]);
+    }
+    return out;
+  }
+};
+
+// Sorted codes with runs of equal ones, and boxes scattered around points along them.
+void made_up_leaves(int n, unsigned seed, std::vector<std::uint32_t>& codes,
+                    std::vector<Aabb>& boxes) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<std::uint32_t> code(0, (1u << 30) - 1);
+  std::uniform_real_distribution<float> where(0.0f, 100.0f), size(0.01f, 3.0f);
+  codes.resize(n);
+  for (int k = 0; k < n; ++k) codes[k] = k % 7 == 3 ? codes[k - 1] : code(rng);
+  std::sort(codes.begin(), codes.end());
+  boxes.resize(n);
+  for (int k = 0; k < n; ++k) {
+    const Vec3f c{float(k) * 0.1f + where(rng) * 0.05f, where(rng), where(rng)};
+    boxes[k] = Aabb{};
+    boxes[k].grow(c);
+    boxes[k].grow(c + Vec3f{size(rng), size(rng), size(rng)});
+  }
+}
+
 } // namespace
 
 TEST_CASE("the n-th set bit of a lane mask, by binary search, is the counted one",
@@ -202,6 +397,49 @@ TEST_CASE("one list's merge is a plain PLOC's on the same clusters", "[ch10][hpl
   merge_cluster_list(lanes, 1, k_ploc_radius, nodes);
   CHECK(!(nodes.made == plain_ploc(wrong, 1, k_ploc_radius, true)));
   CHECK(nodes.made == plain_ploc(list, 1, k_ploc_radius));
+}
+
+TEST_CASE("the GPU's walk, its warps played by fibers, builds the CPU threads' tree",
+          "[ch10][hploc]") {
+  // walk_on_warp is the kernel's code; here each warp's 32 lanes run in lockstep as fibers,
+  // the warps one after another in a scrambled order (a schedule a GPU may choose).
+  struct Case {
+    int n, radius, threshold;
+  };
+  for (const Case c : {Case{700, k_ploc_radius, k_hploc_threshold}, Case{1500, 3, 8},
+                       Case{333, k_ploc_radius, 1}, Case{64, 31, k_hploc_threshold},
+                       Case{17, k_ploc_radius, k_hploc_threshold}, Case{2, 1, 1}}) {
+    CAPTURE(c.n, c.radius, c.threshold);
+    std::vector<std::uint32_t> codes;
+    std::vector<Aabb> boxes;
+    made_up_leaves(c.n, 11 + c.n, codes, boxes);
+    WalkArrays on_cpu(codes, boxes, c.radius, c.threshold);
+    for (int leaf = c.n - 1; leaf >= 0; --leaf) walk_on_cpu(on_cpu.walk, leaf);
+    WalkArrays on_warps(codes, boxes, c.radius, c.threshold);
+    const int warps = (c.n + k_warp_lanes - 1) / k_warp_lanes;
+    std::vector<int> order(warps);
+    for (int w = 0; w < warps; ++w) order[w] = w;
+    std::shuffle(order.begin(), order.end(), std::mt19937(c.n));
+    FiberWarp warp;
+    for (const int w : order)
+      REQUIRE(warp.run([&](FiberWarp::Lane& lane) {
+        walk_on_warp(lane, on_warps.walk, w * k_warp_lanes + lane.lane, lane.lane);
+      }));
+    CHECK(on_cpu.node_counter == c.n - 1);
+    CHECK(on_warps.node_counter == c.n - 1);
+    CHECK(on_warps.shape() == on_cpu.shape());
+  }
+  // And the comparison sees a difference: another threshold, another tree.
+  std::vector<std::uint32_t> codes;
+  std::vector<Aabb> boxes;
+  made_up_leaves(700, 5, codes, boxes);
+  WalkArrays sixteen(codes, boxes, k_ploc_radius, k_hploc_threshold);
+  WalkArrays eight(codes, boxes, k_ploc_radius, 8);
+  for (int leaf = 0; leaf < 700; ++leaf) {
+    walk_on_cpu(sixteen.walk, leaf);
+    walk_on_cpu(eight.walk, leaf);
+  }
+  CHECK(sixteen.shape() != eight.shape());
 }
 
 TEST_CASE("H-PLOC trees pass chapter 07's checker and give brute force's hits",
