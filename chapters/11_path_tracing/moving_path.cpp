@@ -31,16 +31,12 @@ MovingPathRenderer::MovingPathRenderer(const PathScene& start, Backend backend, 
   // The view is made once: every frame rewrites the arrays it points at, never moves them.
   // The tree's node count is the collapse's capacity (the traversal only asks whether it is
   // zero), so it too holds for every frame.
-  view_ = {frames_.wide_view(),
-           frames_.mesh(),
-           material_.data(),
-           materials_.data(),
-           nullptr,
-           nullptr,
-           0,
-           0.0f,
-           start.environment,
-           Sampler{}};
+  view_ = {};
+  view_.tree = frames_.wide_view();
+  view_.mesh = frames_.mesh();
+  view_.material = material_.data();
+  view_.materials = materials_.data();
+  view_.environment = start.environment; // no light table: the scene has no emitters
   // [/listing:moving_view]
   move_to(0.0);
 }
