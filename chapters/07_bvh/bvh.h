@@ -108,7 +108,9 @@ struct BvhView {
   RT_HD int triangle_id(int k) const { return triangle_ids[k]; }
 };
 
-enum class SplitMethod { median, sah };
+// median and sah give each triangle exactly one leaf; sbvh (spatial splits, sbvh_build.h) may
+// reference a triangle from several leaves, never twice from one.
+enum class SplitMethod { median, sah, sbvh };
 
 const char* to_string(SplitMethod method);
 
@@ -116,6 +118,8 @@ struct BuildOptions {
   SplitMethod method = SplitMethod::sah;
   int max_leaf_size = 4; // 1..k_max_leaf_size
   int bins = 16;         // SAH candidate planes per axis are bins - 1; 2..256
+  // sbvh only: the references may grow to (1 + split_budget) times the triangles; 0..4.
+  double split_budget = 0.3;
 };
 
 // What the build report prints.
@@ -127,12 +131,14 @@ struct BuildStats {
   double sah_cost = 0.0; // expected cost of a random ray, in triangle tests (see bvh_build.h)
   double build_ms = 0.0;
   double bytes_per_triangle = 0.0; // nodes, triangle copies and ids, over the triangle count
+  long long references = 0;        // triangle copies in leaves: the triangles, unless sbvh
+  int spatial_splits = 0;          // sbvh: nodes split by a plane rather than by objects
 };
 
 // A built tree, owned in host memory.
 struct Bvh {
   std::vector<BvhNode> nodes;
-  std::vector<TriangleF> triangles; // the mesh's triangles, in leaf order
+  std::vector<TriangleF> triangles; // the mesh's triangles, in leaf order (sbvh: references)
   std::vector<int> triangle_ids;    // the mesh's number of each
   Aabb bounds;                      // of the whole mesh
   BuildOptions options;

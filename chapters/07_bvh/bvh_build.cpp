@@ -13,6 +13,7 @@
 
 #include "rt/cpu_progress.h"
 #include "rt/error.h"
+#include "sbvh_build.h"
 
 namespace rt::ch07 {
 
@@ -22,6 +23,8 @@ const char* to_string(SplitMethod method) {
     return "median";
   case SplitMethod::sah:
     return "sah";
+  case SplitMethod::sbvh:
+    return "sbvh";
   }
   return "unknown";
 }
@@ -347,10 +350,20 @@ void check_build_options(const BuildOptions& options) {
     throw InputError("--bins " + std::to_string(options.bins) + ": the SAH takes 2 to " +
                      std::to_string(k_max_bins) + " bins per axis");
   }
-  if (options.method != SplitMethod::median && options.method != SplitMethod::sah) {
+  if (options.method != SplitMethod::median && options.method != SplitMethod::sah &&
+      options.method != SplitMethod::sbvh) {
     throw InputError("unknown split method " +
                      std::to_string(static_cast<int>(options.method)) +
-                     " (the build knows median and sah)");
+                     " (the build knows median, sah and sbvh)");
+  }
+  // Written so that NaN fails too. Past 4 the references could pass the int range of 1 << 28
+  // triangles, and no scene of the course gains from a fraction of that.
+  if (!(options.split_budget >= 0.0 && options.split_budget <= k_max_split_budget)) {
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "--split-budget %g: spatial splits may add 0 to %g times the triangles",
+                  options.split_budget, k_max_split_budget);
+    throw InputError(line);
   }
 }
 
@@ -387,16 +400,21 @@ Bvh build_bvh(const ch04::Mesh& mesh, const BuildOptions& options) {
   Bvh bvh;
   bvh.options = options;
   const CpuWorkName work("building the tree");
-  Builder(mesh, options).build(bvh);
+  if (options.method == SplitMethod::sbvh) {
+    build_sbvh(mesh, options, bvh);
+  } else {
+    Builder(mesh, options).build(bvh);
+  }
   bvh.triangles.reserve(bvh.triangle_ids.size());
   for (const int id : bvh.triangle_ids) bvh.triangles.push_back(mesh.triangle(id));
   bvh.stats.sah_cost = sah_cost(bvh);
   if (triangle_count > 0) {
     const double bytes =
         static_cast<double>(bvh.nodes.size() * sizeof(BvhNode)) +
-        static_cast<double>(triangle_count) * (sizeof(TriangleF) + sizeof(int));
+        static_cast<double>(bvh.triangle_ids.size()) * (sizeof(TriangleF) + sizeof(int));
     bvh.stats.bytes_per_triangle = bytes / static_cast<double>(triangle_count);
   }
+  bvh.stats.references = static_cast<long long>(bvh.triangle_ids.size());
   bvh.stats.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
           .count();

@@ -27,8 +27,11 @@ constexpr int halving_levels(long long triangle_count, int max_leaf_size) {
 static_assert(halving_levels(k_max_bvh_triangles, 1) <= k_max_bvh_depth - 1,
               "the largest mesh must fit under the depth bound even with leaves of one");
 
+// The most split_budget accepts: (1 + 4) << 28 references still fit an int.
+inline constexpr double k_max_split_budget = 4.0;
+
 // Throws rt::InputError, one line naming the option, unless 1 <= max_leaf_size <=
-// k_max_leaf_size and 2 <= bins <= 256.
+// k_max_leaf_size, 2 <= bins <= 256 and 0 <= split_budget <= k_max_split_budget.
 void check_build_options(const BuildOptions& options);
 
 // Throws rt::InputError for more than k_max_bvh_triangles triangles, and, naming the triangle,

@@ -7,6 +7,7 @@
 
 #include "bvh_build.h"
 #include "rt/error.h"
+#include "sbvh_build.h"
 
 namespace rt::ch07 {
 namespace {
@@ -73,9 +74,16 @@ private:
       problems_.add(std::string("options: ") + error.what());
       max_leaf_ = k_max_leaf_size;
     }
-    if (slot_count_ != n_)
+    // Spatial splits reference a triangle from several leaves, within the budget; the other
+    // builds copy each triangle exactly once.
+    spatial_ = bvh_.options.method == SplitMethod::sbvh;
+    const long long most =
+        spatial_ ? n_ + static_cast<long long>(
+                            std::floor(bvh_.options.split_budget * static_cast<double>(n_)))
+                 : n_;
+    if (slot_count_ < n_ || slot_count_ > most)
       problems_.add(std::to_string(slot_count_) + " triangle copies for " + std::to_string(n_) +
-                    " mesh triangles");
+                    " mesh triangles" + (spatial_ ? " (more than the budget allows)" : ""));
     if (static_cast<long long>(bvh_.triangle_ids.size()) != slot_count_)
       problems_.add(std::to_string(bvh_.triangle_ids.size()) + " triangle ids for " +
                     std::to_string(slot_count_) + " triangle copies");
@@ -138,11 +146,21 @@ private:
     for (int k = first; k < first + count; ++k) {
       if (slot_uses_[k]++ == 1)
         problems_.add("triangle copy " + std::to_string(k) + " is in two leaves");
-      if (!node.box[c].contains(bounds_of(bvh_.triangles[k])))
-        problems_.add(child_name(i, c) + ": box does not contain triangle copy " +
-                      std::to_string(k));
+      // A spatial split's leaf holds only the part of a triangle inside its box: the box must
+      // meet the triangle's (that it holds the whole part is the clip's promise, tested apart).
+      const Aabb own = bounds_of(bvh_.triangles[k]);
+      if (spatial_ ? intersection_of(node.box[c], own).empty() : !node.box[c].contains(own))
+        problems_.add(child_name(i, c) + ": box does not " + (spatial_ ? "meet" : "contain") +
+                      " triangle copy " + std::to_string(k));
       if (k < static_cast<long long>(bvh_.triangle_ids.size())) check_triangle_copy(k);
     }
+    // No triangle twice in one leaf: the traversal would test it twice for nothing.
+    for (int k = first;
+         k < first + count && k < static_cast<long long>(bvh_.triangle_ids.size()); ++k)
+      for (int j = first; j < k; ++j)
+        if (bvh_.triangle_ids[j] == bvh_.triangle_ids[k])
+          problems_.add(child_name(i, c) + " holds mesh triangle " +
+                        std::to_string(bvh_.triangle_ids[k]) + " twice");
   }
 
   void check_triangle_copy(int k) {
@@ -152,7 +170,7 @@ private:
                     ", not a mesh triangle");
       return;
     }
-    if (id_uses_[id]++ == 1)
+    if (id_uses_[id]++ == 1 && !spatial_)
       problems_.add("mesh triangle " + std::to_string(id) + " is in two leaves");
     const TriangleF original = mesh_.triangle(id);
     if (std::memcmp(&original, &bvh_.triangles[k], sizeof(TriangleF)) != 0)
@@ -212,11 +230,11 @@ private:
       mismatch("leaf_sizes", "a different histogram", "these leaves");
     if (!nearly_equal(stats.sah_cost, sah_cost(bvh_)))
       mismatch("sah_cost", std::to_string(stats.sah_cost), std::to_string(sah_cost(bvh_)));
-    const double bytes = n_ > 0
-                             ? (static_cast<double>(node_count_) * sizeof(BvhNode) +
-                                static_cast<double>(n_) * (sizeof(TriangleF) + sizeof(int))) /
-                                   static_cast<double>(n_)
-                             : 0.0;
+    const double bytes =
+        n_ > 0 ? (static_cast<double>(node_count_) * sizeof(BvhNode) +
+                  static_cast<double>(slot_count_) * (sizeof(TriangleF) + sizeof(int))) /
+                     static_cast<double>(n_)
+               : 0.0;
     if (!nearly_equal(stats.bytes_per_triangle, bytes))
       mismatch("bytes_per_triangle", std::to_string(stats.bytes_per_triangle),
                std::to_string(bytes));
@@ -226,6 +244,7 @@ private:
   const ch04::Mesh& mesh_;
   const long long n_, slot_count_, node_count_;
   int max_leaf_ = 0;
+  bool spatial_ = false; // an sbvh tree: a triangle may be in several leaves
   Problems problems_;
   BuildStats counted_;
   std::vector<unsigned char> node_reached_;

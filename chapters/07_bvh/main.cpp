@@ -57,13 +57,17 @@ const FlagModes k_chapter_flags[] = {
 };
 
 // Flags that do nothing beside another of the chapter's: the median split has no bins (the
-// report alone builds a SAH tree as well), and the heat map is not shaded.
+// report alone builds a SAH tree as well), only spatial splits spend a budget, and the heat map
+// is not shaded.
 void check_chapter_flags(const ChapterOptions& options, const CLI::App& app) {
   const ProgramMode mode = program_mode(options.query, options);
   if (options.build.method == SplitMethod::median && app.count("--bins") > 0 &&
       mode != ProgramMode::report)
     throw UsageError("--bins does nothing with --split median, which cuts at the median "
                      "without bins");
+  if (options.build.method != SplitMethod::sbvh && app.count("--split-budget") > 0)
+    throw UsageError("--split-budget goes with --split sbvh: only spatial splits copy "
+                     "references");
   for (const char* flag : {"--shading", "--shadows"})
     if (options.heat_map && app.count(flag) > 0 && mode != ProgramMode::report)
       throw UsageError(std::string(flag) +

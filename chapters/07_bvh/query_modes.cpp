@@ -244,16 +244,23 @@ void add_build_options(CLI::App& app, BuildOptions& build) {
   app.add_option_function<std::string>(
          "--split",
          [&build](const std::string& text) {
-           build.method = text == "median" ? SplitMethod::median : SplitMethod::sah;
+           build.method = text == "median" ? SplitMethod::median
+                          : text == "sbvh" ? SplitMethod::sbvh
+                                           : SplitMethod::sah;
          },
-         "How the tree is built for the image, the ray files and the benchmark")
-      ->check(CLI::IsMember({"median", "sah"}))
+         "How the tree is built for the image, the ray files and the benchmark (sbvh: the "
+         "SAH with spatial splits)")
+      ->check(CLI::IsMember({"median", "sah", "sbvh"}))
       ->default_str("sah");
   app.add_option("--leaf-size", build.max_leaf_size, "Most triangles in a leaf")
       ->check(CLI::Range(1, k_max_leaf_size))
       ->capture_default_str();
   app.add_option("--bins", build.bins, "SAH bins per axis")
       ->check(CLI::Range(2, 256))
+      ->capture_default_str();
+  app.add_option("--split-budget", build.split_budget,
+                 "With --split sbvh: the references may grow to (1 + this) times the triangles")
+      ->check(CLI::Range(0.0, k_max_split_budget))
       ->capture_default_str();
 }
 
