@@ -131,6 +131,7 @@ struct BuildStats {
   double sah_cost = 0.0; // expected cost of a random ray, in triangle tests (see bvh_build.h)
   double build_ms = 0.0;
   double bytes_per_triangle = 0.0; // nodes, triangle copies and ids, over the triangle count
+  long long triangles = 0;         // the mesh's
   long long references = 0;        // triangle copies in leaves: the triangles, unless sbvh
   int spatial_splits = 0;          // sbvh: nodes split by a plane rather than by objects
 };

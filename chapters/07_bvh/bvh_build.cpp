@@ -414,6 +414,7 @@ Bvh build_bvh(const ch04::Mesh& mesh, const BuildOptions& options) {
         static_cast<double>(bvh.triangle_ids.size()) * (sizeof(TriangleF) + sizeof(int));
     bvh.stats.bytes_per_triangle = bytes / static_cast<double>(triangle_count);
   }
+  bvh.stats.triangles = triangle_count;
   bvh.stats.references = static_cast<long long>(bvh.triangle_ids.size());
   bvh.stats.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)

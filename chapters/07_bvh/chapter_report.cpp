@@ -136,6 +136,12 @@ void report_chapter(const ChapterReportOptions& o, const std::vector<Backend>& b
   const Bvh sah_tree = build_bvh(scene.mesh, sah);
   report.add_row(build_row("build, median", median_tree));
   report.add_row(build_row("build, sah", sah_tree));
+  // With --split sbvh, the spatial splits' tree too: built, and traced beside the others.
+  std::optional<Bvh> sbvh_tree;
+  if (o.build.method == SplitMethod::sbvh) {
+    sbvh_tree.emplace(build_bvh(scene.mesh, o.build));
+    report.add_row(build_row("build, sbvh", *sbvh_tree));
+  }
 
   // Brute force and both trees on the camera's rays, through the runner: each tree's hits
   // against the SAH tree's, every tree's against float64 on sampled rays.
@@ -143,8 +149,13 @@ void report_chapter(const ChapterReportOptions& o, const std::vector<Backend>& b
   const TracerMaker makers = [&](const TracerScene& s) {
     Tracer median_tracer = bvh_tracer("median", median_tree, s);
     median_tracer.rule = HitRule::ties_allowed;
-    return std::vector<Tracer>{brute_force_tracer(s), std::move(median_tracer),
-                               bvh_tracer("sah", sah_tree, s)};
+    std::vector<Tracer> tracers{brute_force_tracer(s), std::move(median_tracer),
+                                bvh_tracer("sah", sah_tree, s)};
+    if (sbvh_tree) { // its leaves test triangles in another order: ties may go either way
+      tracers.push_back(bvh_tracer("sbvh", *sbvh_tree, s));
+      tracers.back().rule = HitRule::ties_allowed;
+    }
+    return tracers;
   };
   for (const Backend backend : backends) {
     RunnerOptions runner;

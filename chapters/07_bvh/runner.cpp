@@ -420,19 +420,30 @@ const TracerFigure* SceneResult::find(const std::string& tracer, RayType type) c
 
 ReportRow build_row(const std::string& variant, const Bvh& bvh) {
   const BuildStats& s = bvh.stats;
-  const double triangles = double(bvh.triangles.size());
-  return {variant,
-          "cpu",
-          s.build_ms,
-          triangles / (s.build_ms * 1e3),
-          group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) + ", SAH cost " +
-              format_fixed(s.sah_cost, 1) + ", " + format_fixed(s.bytes_per_triangle, 1) +
-              " B/triangle (Mtriangles/s)",
-          {{"triangles", triangles},
-           {"nodes", double(s.nodes)},
-           {"depth", double(s.depth)},
-           {"sah_cost", s.sah_cost},
-           {"bytes_per_triangle", s.bytes_per_triangle}}};
+  // The mesh's triangles: spatial splits copy some into several leaves, so the copies can be
+  // more (a tree not from build_bvh has no count, and holds each triangle once).
+  const double references = double(bvh.triangles.size());
+  const double triangles = s.triangles > 0 ? double(s.triangles) : references;
+  const double per_triangle = triangles > 0.0 ? references / triangles : 1.0;
+  ReportRow row{variant,
+                "cpu",
+                s.build_ms,
+                triangles / (s.build_ms * 1e3),
+                group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) +
+                    ", SAH cost " + format_fixed(s.sah_cost, 1) + ", " +
+                    format_fixed(s.bytes_per_triangle, 1) + " B/triangle" +
+                    (references != triangles
+                         ? ", " + format_fixed(per_triangle, 3) + " references/triangle"
+                         : std::string()) +
+                    " (Mtriangles/s)",
+                {{"triangles", triangles},
+                 {"nodes", double(s.nodes)},
+                 {"depth", double(s.depth)},
+                 {"sah_cost", s.sah_cost},
+                 {"bytes_per_triangle", s.bytes_per_triangle}}};
+  if (bvh.options.method == SplitMethod::sbvh)
+    row.metrics.push_back({"references_per_triangle", per_triangle});
+  return row;
 }
 
 std::string scene_name(const std::string& path) {

@@ -318,7 +318,6 @@ private:
     return children;
   }
 
-  // [listing:sbvh_spatial]
   // The spatial split's search. The node's box is cut into `bins` equal slabs along each axis;
   // the planes between them are the candidates. A reference goes left of plane P when its box
   // reaches below P (or lies flat on it), right when it reaches above P, and to both when it
@@ -405,7 +404,6 @@ private:
     }
     return best;
   }
-  // [/listing:sbvh_spatial]
 
   // Splits the references at the plane: a reference that straddles it is clipped into a part
   // on each side (a part whose clipped box turns out empty holds none of the triangle and is
