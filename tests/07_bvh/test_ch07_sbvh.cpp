@@ -1,12 +1,15 @@
 // Chapter 07 tests of spatial splits (--split sbvh): the clipped box holds every point of the
 // triangle on its side, for random and adversarial triangles (a careless float clip does not);
-// no ray aimed at a closed mesh's vertices and edges leaks through the tree; the closest hits
-// are brute force's; the SAH cost beats the object splits' on long thin triangles; the
-// references stay within the budget; the checker accepts the trees and refuses a triangle twice
-// in one leaf; the depth bound holds; the build is deterministic; bad options are refused.
+// every point of every triangle lies in a leaf box that references it; no ray aimed at a closed
+// mesh's vertices, edges or clip corners leaks through the tree; the closest hits are brute
+// force's; the SAH cost beats the object splits' on long thin triangles; the references stay
+// within the budget; the checker accepts the trees and refuses a triangle twice in one leaf;
+// every split shrinks both sides and the depth bound holds; the build is deterministic; bad
+// options are refused.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
@@ -92,6 +95,119 @@ Mesh diagonal_tube(Vec3d centre, int sides = 24, double length = 20.0, double ra
     mesh.triangles.push_back({second + sides, second + k, second + next}); // far cap
   }
   return mesh;
+}
+
+// The rays a careless clip lets through: from around `inside` at every point where an edge of
+// a leaf's triangle crosses a face of that leaf's box. These are the corners of the clipped
+// parts, where a box rounded the wrong way ends short of the triangle.
+std::vector<RayF> rays_at_clip_corners(const Bvh& bvh, Vec3f inside, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(-0.3f, 0.3f);
+  std::vector<RayF> rays;
+  for (const BvhNode& node : bvh.nodes) {
+    for (int c = 0; c < 2; ++c) {
+      for (int k = node.first[c]; k < node.first[c] + node.count[c]; ++k) {
+        const TriangleF& t = bvh.triangles[k];
+        const Vec3d v[3] = {t.v0.as<double>(), t.v1.as<double>(), t.v2.as<double>()};
+        for (int axis = 0; axis < 3; ++axis) {
+          for (const double plane :
+               {double(node.box[c].lo[axis]), double(node.box[c].hi[axis])}) {
+            for (int e = 0; e < 3; ++e) {
+              const Vec3d a = v[e], b = v[(e + 1) % 3];
+              if (!((a[axis] < plane && plane < b[axis]) ||
+                    (b[axis] < plane && plane < a[axis])))
+                continue;
+              const Vec3f target =
+                  (a + (b - a) * ((plane - a[axis]) / (b[axis] - a[axis]))).as<float>();
+              for (int r = 0; r < 3; ++r) {
+                const Vec3f origin = inside + Vec3f{unit(rng), unit(rng), unit(rng)};
+                rays.push_back(RayF{origin, target - origin});
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  return rays;
+}
+
+// The points of the triangles no leaf box covers. A leaf that references a triangle must hold,
+// with its siblings that reference it too, all of it: each point of each triangle, in double,
+// must lie in some leaf box that references the triangle. Tried: the triangle's corners, the
+// points where its edges cross a face of one of those boxes (where a careless clip ends short)
+// and random points.
+long long uncovered_points(const Bvh& bvh, const Mesh& mesh, unsigned seed) {
+  std::vector<std::vector<Aabb>> boxes(mesh.triangles.size());
+  for (const BvhNode& node : bvh.nodes)
+    for (int c = 0; c < 2; ++c)
+      for (int k = node.first[c]; k < node.first[c] + node.count[c]; ++k)
+        boxes[bvh.triangle_ids[k]].push_back(node.box[c]);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  long long uncovered = 0;
+  for (std::size_t id = 0; id < boxes.size(); ++id) {
+    const TriangleF t = mesh.triangle(static_cast<int>(id));
+    const Vec3d v[3] = {t.v0.as<double>(), t.v1.as<double>(), t.v2.as<double>()};
+    std::vector<Vec3d> points(v, v + 3);
+    for (const Aabb& box : boxes[id])
+      for (int axis = 0; axis < 3; ++axis)
+        for (const double plane : {double(box.lo[axis]), double(box.hi[axis])})
+          for (int e = 0; e < 3; ++e) {
+            const Vec3d a = v[e], b = v[(e + 1) % 3];
+            if ((a[axis] < plane && plane < b[axis]) || (b[axis] < plane && plane < a[axis]))
+              points.push_back(a + (b - a) * ((plane - a[axis]) / (b[axis] - a[axis])));
+          }
+    for (int k = 0; k < 32; ++k) {
+      double a = unit(rng), b = unit(rng);
+      if (a + b > 1.0) a = 1.0 - a, b = 1.0 - b;
+      points.push_back(v[0] + (v[1] - v[0]) * a + (v[2] - v[0]) * b);
+    }
+    for (const Vec3d& p : points) {
+      bool covered = false;
+      for (const Aabb& box : boxes[id]) {
+        bool in = true;
+        for (int c = 0; c < 3; ++c) // a point a double rounding off the edge still counts
+          in = in && double(box.lo[c]) <= p[c] + 1e-15 * std::abs(p[c]) &&
+               p[c] - 1e-15 * std::abs(p[c]) <= double(box.hi[c]);
+        covered = covered || in;
+      }
+      uncovered += !covered;
+    }
+  }
+  return uncovered;
+}
+
+// The triangles below node `i`, each once and sorted. They are exactly the node's references:
+// a triangle is in a node at most once, and every copy below comes from one of them. Counts in
+// `not_shrinking` the interior nodes with a child that holds as many references as they do.
+std::vector<int> triangles_of_node(const Bvh& bvh, int i, int& not_shrinking);
+
+std::vector<int> triangles_of_child(const Bvh& bvh, int i, int c, int& not_shrinking) {
+  const BvhNode& node = bvh.nodes[i];
+  if (node.count[c] == 0)
+    return node.first[c] >= 0 ? triangles_of_node(bvh, node.first[c], not_shrinking)
+                              : std::vector<int>{}; // the empty child of a one-leaf root
+  std::vector<int> ids(bvh.triangle_ids.begin() + node.first[c],
+                       bvh.triangle_ids.begin() + node.first[c] + node.count[c]);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+std::vector<int> triangles_of_node(const Bvh& bvh, int i, int& not_shrinking) {
+  const std::vector<int> left = triangles_of_child(bvh, i, 0, not_shrinking);
+  const std::vector<int> right = triangles_of_child(bvh, i, 1, not_shrinking);
+  std::vector<int> all;
+  std::set_union(left.begin(), left.end(), right.begin(), right.end(), std::back_inserter(all));
+  if (!right.empty() && (left.size() >= all.size() || right.size() >= all.size()))
+    ++not_shrinking;
+  return all;
+}
+
+int nodes_not_shrinking(const Bvh& bvh) {
+  int not_shrinking = 0;
+  if (!bvh.nodes.empty()) triangles_of_node(bvh, 0, not_shrinking);
+  return not_shrinking;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -277,6 +393,22 @@ TEST_CASE("sbvh: no ray aimed at vertices and edges leaks through the tree", "[c
   }
 }
 
+TEST_CASE("sbvh: every point of every triangle lies in a leaf box that references it",
+          "[ch07][sbvh]") {
+  Mesh far_slivers = long_slivers(300, 31);
+  for (Vec3f& v : far_slivers.vertices) v = v + Vec3f{1e5f, -1e5f, 1e5f};
+  for (const Mesh& mesh : {diagonal_tube({0.0, 0.0, 0.0}), diagonal_tube({1e5, -1e5, 1e5}),
+                           long_slivers(500, 32), far_slivers, mixed_scene(300, 33)}) {
+    for (const int leaf : {1, 4}) {
+      const Bvh bvh = build_bvh(mesh, sbvh_options(leaf, 4.0));
+      CAPTURE(mesh.triangles.size(), leaf, bvh.stats.references);
+      REQUIRE(problems_of(bvh, mesh).empty());
+      CHECK(bvh.stats.spatial_splits > 0);
+      CHECK(uncovered_points(bvh, mesh, 41) == 0);
+    }
+  }
+}
+
 TEST_CASE("sbvh: no ray leaks out of a tube of long thin triangles", "[ch07][sbvh]") {
   for (const Vec3d centre : {Vec3d{0.0, 0.0, 0.0}, Vec3d{1e5, -1e5, 1e5}}) {
     const Mesh tube = diagonal_tube(centre);
@@ -294,6 +426,16 @@ TEST_CASE("sbvh: no ray leaks out of a tube of long thin triangles", "[ch07][sbv
               trace_bvh<Query::closest>(TriangleVariant::watertight, bvh.view(), ray).triangle <
               0;
         CHECK(leaks == 0);
+        const std::vector<RayF> corner_rays =
+            rays_at_clip_corners(bvh, centre.as<float>(), 5 + bins);
+        int corner_leaks = 0;
+        for (const RayF& ray : corner_rays)
+          corner_leaks +=
+              trace_bvh<Query::closest>(TriangleVariant::watertight, bvh.view(), ray).triangle <
+              0;
+        CAPTURE(corner_rays.size());
+        CHECK(corner_rays.size() > 100);
+        CHECK(corner_leaks == 0);
       }
     }
   }
@@ -432,6 +574,7 @@ TEST_CASE("sbvh: the depth bound holds where nothing shrinks", "[ch07][sbvh]") {
       CAPTURE(leaf, bvh.stats.depth);
       REQUIRE(problems_of(bvh, *mesh).empty());
       CHECK(bvh.stats.depth <= k_max_bvh_depth - 1);
+      CHECK(nodes_not_shrinking(bvh) == 0);
       CHECK(bvh.stats.depth >=
             halving_levels(static_cast<long long>(mesh->triangles.size()), leaf) - 1);
     }
