@@ -60,6 +60,27 @@ void grow_by_crossing(Aabb& box, Vec3f a, Vec3f b, int axis, float plane) {
 }
 // [/listing:sbvh_clip]
 
+// The box of the points where the triangle's edges cross the plane p[axis] = plane (empty when
+// none crosses it strictly; an infinite plane is crossed by none).
+Aabb crossing_bounds(const TriangleF& triangle, int axis, float plane) {
+  const Vec3f v[3] = {triangle.v0, triangle.v1, triangle.v2};
+  Aabb box;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3f a = v[i], b = v[(i + 1) % 3];
+    if ((a[axis] < plane && plane < b[axis]) || (b[axis] < plane && plane < a[axis]))
+      grow_by_crossing(box, a, b, axis, plane);
+  }
+  return box;
+}
+
+// The box of the triangle's corners in the slab lo <= p[axis] <= hi.
+Aabb corner_bounds(const TriangleF& triangle, int axis, float lo, float hi) {
+  Aabb box;
+  for (const Vec3f& v : {triangle.v0, triangle.v1, triangle.v2})
+    if (v[axis] >= lo && v[axis] <= hi) box.grow(v);
+  return box;
+}
+
 } // namespace
 
 // The part of a triangle in a slab is a convex polygon whose corners are the triangle's
@@ -67,16 +88,9 @@ void grow_by_crossing(Aabb& box, Vec3f a, Vec3f b, int axis, float plane) {
 // those is computed from the triangle's own vertices, never from an earlier clip, so the errors
 // do not pile up.
 Aabb clipped_bounds(const TriangleF& triangle, int axis, float lo, float hi) {
-  const Vec3f v[3] = {triangle.v0, triangle.v1, triangle.v2};
-  Aabb box;
-  for (int i = 0; i < 3; ++i) {
-    const Vec3f a = v[i], b = v[(i + 1) % 3];
-    if (a[axis] >= lo && a[axis] <= hi) box.grow(a);
-    for (const float plane : {lo, hi}) {
-      if ((a[axis] < plane && plane < b[axis]) || (b[axis] < plane && plane < a[axis]))
-        grow_by_crossing(box, a, b, axis, plane);
-    }
-  }
+  Aabb box = corner_bounds(triangle, axis, lo, hi);
+  box.grow(crossing_bounds(triangle, axis, lo));
+  box.grow(crossing_bounds(triangle, axis, hi));
   return box;
 }
 
@@ -372,10 +386,18 @@ private:
           slab_boxes_[std::max(0, first_slab)].grow(r.box);
           continue;
         }
+        // clipped_bounds slab by slab, each plane's crossings computed once for the two slabs
+        // that share it.
         const TriangleF& triangle = triangles_[r.id];
-        for (int j = first_slab; j <= last_slab; ++j)
-          slab_boxes_[j].grow(
-              intersection_of(clipped_bounds(triangle, axis, planes[j], planes[j + 1]), r.box));
+        Aabb below = crossing_bounds(triangle, axis, planes[first_slab]);
+        for (int j = first_slab; j <= last_slab; ++j) {
+          const Aabb above = crossing_bounds(triangle, axis, planes[j + 1]);
+          Aabb part = corner_bounds(triangle, axis, planes[j], planes[j + 1]);
+          part.grow(below);
+          part.grow(above);
+          slab_boxes_[j].grow(intersection_of(part, r.box));
+          below = above;
+        }
       }
       right_boxes_[bins] = Aabb{};
       for (int k = bins - 1; k >= 1; --k) {
