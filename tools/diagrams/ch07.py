@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Chapter 07's diagrams (book/images/07_*.svg): a small tree laid out depth-first in one node
-array, and the slab test on one axis with its three traps (zero direction, NaN, -0.0).
+array, the slab test on one axis with its three traps (zero direction, NaN, -0.0), and an
+object split against a spatial split of two long thin triangles.
 
   tools/diagrams/ch07.py [OUT_DIR]     (default: book/images)
 """
@@ -117,11 +118,62 @@ def slab_cases(out):
     save(fig, out / "07_slab_cases.svg")
 
 
+def spatial_split(out):
+    # Two long thin triangles side by side along the node's diagonal. An object split gives each
+    # child one triangle and that triangle's box: both boxes are nearly the whole node. A spatial
+    # split cuts the node at x = 5 and gives each child the parts of both triangles on its side;
+    # its box holds the clipped parts, not the triangles' whole boxes.
+    triangles = [[(0.2, 0.2), (9.8, 5.4), (9.8, 5.9)], [(0.2, 0.7), (0.2, 1.3), (9.8, 6.3)]]
+    cut = 5.0
+
+    def clipped(triangle, lo, hi):
+        points = [p for p in triangle if lo <= p[0] <= hi]
+        for i in range(3):
+            a, b = triangle[i], triangle[(i + 1) % 3]
+            for plane in (lo, hi):
+                if min(a[0], b[0]) < plane < max(a[0], b[0]):
+                    s = (plane - a[0]) / (b[0] - a[0])
+                    points.append((plane, a[1] + (b[1] - a[1]) * s))
+        return points
+
+    def box(points):
+        xs, ys = [p[0] for p in points], [p[1] for p in points]
+        return (min(xs), min(ys)), max(xs) - min(xs), max(ys) - min(ys)
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, title in zip(axes, ["object split: one triangle per child",
+                                "spatial split at x = 5: both triangles in both children"]):
+        ax.set_xlim(-0.3, 10.3)
+        ax.set_ylim(-0.7, 7.0)
+        ax.set_aspect("equal")
+        ax.axis("off")
+        ax.set_title(title, fontsize=10)
+        ax.add_patch(Rectangle((0.0, 0.0), 10.0, 6.5, fill=False, edgecolor=GREY, linewidth=1))
+        for triangle in triangles:
+            ax.add_patch(plt.Polygon(triangle, closed=True, facecolor="#eef5fb",
+                                     edgecolor=BLUE, linewidth=1))
+    left, right = axes
+    for colour, triangle in zip([GOLD, GREEN], triangles):
+        left.add_patch(Rectangle(*box(triangle), fill=False, edgecolor=colour, linewidth=1.6,
+                                 linestyle="--"))
+    left.text(5.0, -0.5, "the children's boxes overlap almost everywhere", ha="center",
+              fontsize=8.5, color=RED)
+    right.plot([cut, cut], [-0.2, 6.7], color=RED, linewidth=1.2)
+    for colour, (lo, hi) in zip([GOLD, GREEN], [(-1e9, cut), (cut, 1e9)]):
+        parts = [p for triangle in triangles for p in clipped(triangle, lo, hi)]
+        right.add_patch(Rectangle(*box(parts), fill=False, edgecolor=colour, linewidth=1.6,
+                                  linestyle="--"))
+    right.text(5.0, -0.5, "each child's box holds the clipped parts on its side", ha="center",
+               fontsize=8.5, color=GREEN)
+    save(fig, out / "07_spatial_split.svg")
+
+
 def main():
     out = Path(sys.argv[1] if len(sys.argv) > 1 else "book/images")
     plt.rcParams.update({"svg.hashsalt": "rt-course-ch07", "font.family": "DejaVu Sans"})
     node_array(out)
     slab_cases(out)
+    spatial_split(out)
 
 
 if __name__ == "__main__":
