@@ -92,21 +92,13 @@ struct PlaceClusters {
   int* first_slot; // of each interior node's first leaf
   int* too_deep;
   RT_HD void operator()(int j) const {
-    int place = 0, leaf_slot = 0, depth = 0;
-    for (int x = tree.n + j; tree.parents[x] >= 0;) {
-      if (++depth > ch07::k_max_bvh_depth - 1) {
-        mark(too_deep);
-        return;
-      }
-      const int parent = tree.parents[x] >> 1;
-      const int left = tree.nodes[parent].child[0];
-      const bool right = (tree.parents[x] & 1) != 0;
-      place += right ? tree.leaf_counts[left] : 1;
-      leaf_slot += right ? tree.leaf_counts[left] : 0;
-      x = tree.n + parent;
+    const WayUp up = place_on_way_up(tree, tree.n + j, ch07::k_max_bvh_depth - 1);
+    if (up.too_deep) {
+      mark(too_deep);
+      return;
     }
-    index[j] = place;
-    first_slot[j] = leaf_slot;
+    index[j] = up.index;
+    first_slot[j] = up.leaf_slot;
   }
 };
 

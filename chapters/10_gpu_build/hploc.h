@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "bvh.h"
+#include "cluster_tree.h"
 #include "gpu_build.h"
 #include "karras.h"
 #include "rt/hd.h"
@@ -17,22 +18,6 @@
 namespace rt::ch10 {
 
 using ch07::Aabb;
-
-// An interior node of the clustering: its two clusters, left (earlier in Morton order) first.
-struct ClusterPair {
-  int child[2];
-};
-
-// The clustering's nodes. Numbers 0 .. n-1 are the leaves in Morton order, n + j is interior
-// node j, numbered as the merges happen to take them (an atomic counter: the numbers change
-// from run to run, the tree they describe does not).
-struct ClusterTree {
-  int n;
-  Aabb* boxes;        // 2n - 1: every node's box
-  int* leaf_counts;   // 2n - 1: leaves below every node
-  ClusterPair* nodes; // n - 1 interior nodes
-  int* parents;       // 2n - 1: 2 * interior node + child slot; -1 for the root
-};
 
 // What merging two clusters costs: the half area of their union, the left one's box grown by
 // the right one's, the same operations in the same order on every backend. A NaN (an area of

@@ -11,6 +11,7 @@
 
 #include "build_passes.cuh"
 #include "bvh_build.h"
+#include "cluster_tree.h"
 #include "model_render.h"
 #include "rt/error.h"
 
@@ -19,24 +20,9 @@ namespace {
 
 using namespace passes;
 
-// An interior node of the clustering: node numbers 0 .. n-1 are the leaves (in Morton order),
-// n + j is interior node j, made in the order the rounds make them.
-struct PlocNode {
-  int child[2];
-};
-
-// The nodes as the passes see them.
-struct PlocTree {
-  int n;
-  Aabb* boxes;      // 2n - 1: every node's box
-  int* leaf_counts; // 2n - 1: leaves below every node
-  PlocNode* nodes;  // n - 1 interior nodes
-  int* parents;     // 2n - 1: 2 * interior node + child slot; -1 for the root
-};
-
 // The start: one cluster per leaf, boxed.
 struct StartClusters {
-  PlocTree tree;
+  ClusterTree tree;
   const Aabb* triangle_boxes;
   const int* sorted_ids;
   int* clusters;
@@ -52,7 +38,7 @@ struct StartClusters {
 // merged with its own has the smallest surface area, the leftmost of equal ones (the first
 // the loop meets), so the choice depends on nothing but the boxes and their places.
 struct FindNeighbours {
-  PlocTree tree;
+  ClusterTree tree;
   const int* clusters;
   int count, radius;
   int* neighbour;
@@ -105,7 +91,7 @@ RT_HD inline bool pairs_in_order(const int* makes_node, const int* node_offset, 
 // The round's new nodes and the clusters that go on: at places the prefix sums gave them, or
 // in a round that pairs in place order, cluster 2k with 2k + 1 into node k, at place k.
 struct MergeClusters {
-  PlocTree tree;
+  ClusterTree tree;
   const int *clusters, *neighbour, *makes_node, *stays, *node_offset, *place;
   int count;
   int first_new; // the node number of this round's first new node
@@ -156,35 +142,23 @@ struct RoundTotals {
 };
 
 // [listing:ploc_place]
-// Every node's place in chapter 07's arrays, counted on the way up as for the LBVH: a left
-// child comes right after its parent, a right child after the parent and the whole left
-// subtree (its leaves less one interior nodes); a leaf's triangle slot is the number of leaves
-// in the left subtrees passed. The walk stops at chapter 07's depth bound.
+// Every node's place in chapter 07's arrays (cluster_tree.h); the walk stops at chapter 07's
+// depth bound, and a leaf may sit one level below the deepest interior node allowed.
 struct PlacePloc {
-  PlocTree tree;
+  ClusterTree tree;
   int* index; // of each interior node
   int* slot;  // of each leaf
   int* too_deep;
   RT_HD void operator()(int id) const {
-    // A leaf may sit one level below the deepest interior node allowed.
-    const int deepest = id < tree.n ? ch07::k_max_bvh_depth : ch07::k_max_bvh_depth - 1;
-    int place = 0, leaf_slot = 0, depth = 0;
-    for (int x = id; tree.parents[x] >= 0;) {
-      if (++depth > deepest) {
-        mark(too_deep);
-        return;
-      }
-      const int parent = tree.parents[x] >> 1;
-      const int left = tree.nodes[parent].child[0];
-      const bool right = (tree.parents[x] & 1) != 0;
-      place += right ? tree.leaf_counts[left] : 1;
-      leaf_slot += right ? tree.leaf_counts[left] : 0;
-      x = tree.n + parent;
-    }
-    if (id < tree.n) {
-      slot[id] = leaf_slot;
+    const bool leaf = id < tree.n;
+    const WayUp up =
+        place_on_way_up(tree, id, leaf ? ch07::k_max_bvh_depth : ch07::k_max_bvh_depth - 1);
+    if (up.too_deep) {
+      mark(too_deep);
+    } else if (leaf) {
+      slot[id] = up.leaf_slot;
     } else {
-      index[id - tree.n] = place;
+      index[id - tree.n] = up.index;
     }
   }
 };
@@ -192,7 +166,7 @@ struct PlacePloc {
 
 // Interior node j in chapter 07's layout, and its leaves' triangles in their slots.
 struct WritePloc {
-  PlocTree tree;
+  ClusterTree tree;
   const int *index, *slot, *sorted_ids;
   MeshView mesh;
   BvhNode* out;
@@ -242,7 +216,7 @@ std::size_t scan_scratch_bytes(int n) {
 struct PlocArrays {
   BackendArray<Aabb> boxes;
   BackendArray<int> leaf_counts, parents;
-  BackendArray<PlocNode> nodes;
+  BackendArray<ClusterPair> nodes;
   BackendArray<int> clusters, next_clusters, neighbour, makes_node, stays, node_offset, place,
       totals;
   BackendArray<unsigned char> scan_scratch;
@@ -252,7 +226,7 @@ struct PlocArrays {
         neighbour(backend, n), makes_node(backend, n), stays(backend, n),
         node_offset(backend, n), place(backend, n), totals(backend, 3),
         scan_scratch(backend, backend == Backend::gpu ? scan_scratch_bytes(n) : 0) {}
-  PlocTree tree(int n) {
+  ClusterTree tree(int n) {
     return {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()};
   }
 };
@@ -264,7 +238,7 @@ struct RoundCounts {
 
 // The clustering rounds, until one cluster is left.
 RoundCounts cluster(Backend backend, PlocArrays& a, int n, int radius) {
-  const PlocTree tree = a.tree(n);
+  const ClusterTree tree = a.tree(n);
   const int bound = ploc_round_bound(n);
   int count = n, made = 0;
   RoundCounts counts;
@@ -308,7 +282,7 @@ std::optional<GpuBuild> ploc_tree(Backend backend, const ch04::Mesh& mesh, int r
 
   BackendStopwatch clock(backend); // build time: events around the kernels, or wall time
   order.sort();
-  const PlocTree tree = a.tree(n);
+  const ClusterTree tree = a.tree(n);
   for_each_index(
       backend, n,
       StartClusters{tree, order.boxes.data(), order.sorted_ids.data(), a.clusters.data()});
