@@ -459,30 +459,40 @@ std::vector<int> root_nodes(const GltfReader& reader) {
 // The scene graph flattened: a walk from the roots that multiplies each node's transform onto
 // its parent's. glTF's nodes form trees (a node has one parent at most, and a scene lists
 // roots only), so a node reached twice is a broken file: a cycle, which would never end, or a
-// node with two parents.
+// node with two parents. A tree deeper than k_max_gltf_node_depth levels is refused too.
 std::vector<PlacedNode> flatten_nodes(const GltfReader& reader) {
   const tinygltf::Model& model = reader.model();
+  struct Pending {
+    int node;
+    Matrix parent_world;
+    int depth; // a root is level 1
+  };
   std::vector<PlacedNode> placed;
   std::vector<bool> reached(model.nodes.size(), false);
-  std::vector<PlacedNode> stack;
+  std::vector<Pending> stack;
   const std::vector<int> roots = root_nodes(reader);
   for (auto root = roots.rbegin(); root != roots.rend(); ++root)
-    stack.push_back({*root, k_identity});
+    stack.push_back({*root, k_identity, 1});
   while (!stack.empty()) {
-    const PlacedNode parent = stack.back();
+    const Pending next = stack.back();
     stack.pop_back();
-    if (parent.node < 0 || static_cast<std::size_t>(parent.node) >= model.nodes.size())
-      reader.fail("node " + std::to_string(parent.node) + " does not exist (the file has " +
-                  std::to_string(model.nodes.size()) + ")");
-    if (reached[parent.node])
-      reader.fail("node " + std::to_string(parent.node) +
+    const std::string name = "node " + std::to_string(next.node);
+    if (next.node < 0 || static_cast<std::size_t>(next.node) >= model.nodes.size())
+      reader.fail(name + " does not exist (the file has " + std::to_string(model.nodes.size()) +
+                  ")");
+    if (reached[next.node])
+      reader.fail(name +
                   " is reached twice in the node graph (a cycle, or a node with two parents)");
-    reached[parent.node] = true;
-    const tinygltf::Node& node = model.nodes[parent.node];
-    const PlacedNode here{parent.node, parent.world * local_matrix(node, reader, parent.node)};
+    if (next.depth > k_max_gltf_node_depth)
+      reader.fail(name + " is " + std::to_string(next.depth) +
+                  " levels deep in the node graph, more than the " +
+                  std::to_string(k_max_gltf_node_depth) + " this loader follows");
+    reached[next.node] = true;
+    const tinygltf::Node& node = model.nodes[next.node];
+    const PlacedNode here{next.node, next.parent_world * local_matrix(node, reader, next.node)};
     placed.push_back(here);
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
-      stack.push_back({*child, here.world});
+      stack.push_back({*child, here.world, next.depth + 1});
   }
   return placed;
 }
@@ -650,31 +660,44 @@ private:
 // ---------------------------------------------------------------------------------------------
 // Meshes.
 
+// Triangles read from meshes: one mesh placed in the world per node (the flattened scene), or
+// one mesh in its own space (the instanced scene).
+struct Triangles {
+  ch04::Mesh mesh;
+  std::vector<int> material;            // per triangle, its material slot
+  std::vector<std::array<Vec2f, 3>> uv; // per triangle, (0, 0) where a primitive has none
+  bool has_uv = false;                  // whether any primitive gave TEXCOORD_0
+};
+
+// Checks a mesh index, naming where it came from.
+void check_mesh_index(const GltfReader& reader, int mesh_index) {
+  const std::size_t meshes = reader.model().meshes.size();
+  if (mesh_index < 0 || static_cast<std::size_t>(mesh_index) >= meshes)
+    reader.fail("mesh " + std::to_string(mesh_index) + " does not exist (the file has " +
+                std::to_string(meshes) + ")");
+}
+
+// Reads meshes into Triangles, counting every vertex and triangle it reads against the
+// limits, whichever Triangles they go to.
 class MeshBuilder {
 public:
-  MeshBuilder(const GltfReader& reader, MaterialScene& scene)
-      : reader_(reader), scene_(scene) {}
+  explicit MeshBuilder(const GltfReader& reader) : reader_(reader) {}
 
-  // The triangles of mesh `mesh_index` placed by `world`, with material slot `material` for
-  // primitives that name none.
-  void add_mesh(int mesh_index, const Matrix& world, int default_slot) {
-    const tinygltf::Model& model = reader_.model();
-    if (mesh_index < 0 || static_cast<std::size_t>(mesh_index) >= model.meshes.size())
-      reader_.fail("mesh " + std::to_string(mesh_index) + " does not exist (the file has " +
-                   std::to_string(model.meshes.size()) + ")");
-    const tinygltf::Mesh& mesh = model.meshes[mesh_index];
+  // The triangles of mesh `mesh_index` appended to `out`, placed by `world`, or, where world
+  // is null, as the file gives them; material slot `default_slot` for primitives that name
+  // none.
+  void add_mesh(int mesh_index, const Matrix* world, int default_slot, Triangles& out) {
+    check_mesh_index(reader_, mesh_index);
+    const tinygltf::Mesh& mesh = reader_.model().meshes[mesh_index];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p)
       add_primitive(mesh.primitives[p],
                     "mesh " + std::to_string(mesh_index) + ", primitive " + std::to_string(p),
-                    world, default_slot);
+                    world, default_slot, out);
   }
-
-  bool has_uv() const { return has_uv_; }
-  const std::vector<std::array<Vec2f, 3>>& uv() const { return uv_; }
 
 private:
   void add_primitive(const tinygltf::Primitive& primitive, const std::string& where,
-                     const Matrix& world, int default_slot) {
+                     const Matrix* world, int default_slot, Triangles& out) {
     const tinygltf::Model& model = reader_.model();
     const ch05::LoadLimits& limits = reader_.limits();
     // mode -1: tinygltf's "not given", which glTF defines as 4.
@@ -694,19 +717,20 @@ private:
                          {TINYGLTF_COMPONENT_TYPE_FLOAT}, vertices_left, "max_vertices");
     vertex_count_ += static_cast<long long>(positions.count);
 
-    const int first_vertex = static_cast<int>(scene_.path.mesh.vertices.size());
+    const int first_vertex = static_cast<int>(out.mesh.vertices.size());
     for (std::size_t i = 0; i < positions.count; ++i) {
       const Vec3d local{positions.component<float>(i, 0), positions.component<float>(i, 1),
                         positions.component<float>(i, 2)};
       if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z))
         reader_.fail("POSITION of " + where + ": vertex " + std::to_string(i) +
                      " is not finite");
-      const Vec3d p = transform_point(world, local);
+      const Vec3d p = world != nullptr ? transform_point(*world, local) : local;
       if (!(max_component(elementwise_abs(p)) <= ch03::k_max_coordinate))
         reader_.fail(where + ": vertex " + std::to_string(i) +
                      " lies beyond the supported range (+-" +
-                     std::to_string(ch03::k_max_coordinate) + ") once placed by its nodes");
-      scene_.path.mesh.vertices.push_back(p.as<float>());
+                     std::to_string(ch03::k_max_coordinate) + ")" +
+                     (world != nullptr ? " once placed by its nodes" : ""));
+      out.mesh.vertices.push_back(p.as<float>());
     }
 
     std::vector<std::array<Vec2f, 3>> uv;
@@ -725,7 +749,7 @@ private:
       if (texcoords.count != positions.count)
         reader_.fail("TEXCOORD_0 of " + where + ": " + std::to_string(texcoords.count) +
                      " elements for " + std::to_string(positions.count) + " positions");
-      has_uv_ = true;
+      out.has_uv = true;
     }
     const auto uv_of = [&](std::size_t vertex) -> Vec2f {
       if (texcoord == primitive.attributes.end()) return {};
@@ -751,7 +775,7 @@ private:
     // [listing:gltf_indices]
     // Three indices a triangle, or, without an index accessor, three vertices a triangle in
     // order. Each index is checked against this primitive's vertices.
-    const long long triangles_left = limits.max_triangles - triangle_count();
+    const long long triangles_left = limits.max_triangles - triangle_count_;
     std::vector<std::uint32_t> indices;
     if (primitive.indices >= 0) {
       const AccessorData index_data = reader_.accessor(
@@ -792,23 +816,18 @@ private:
 
     const int slot = primitive.material >= 0 ? primitive.material : default_slot;
     for (std::size_t t = 0; t < indices.size(); t += 3) {
-      scene_.path.mesh.triangles.push_back({first_vertex + static_cast<int>(indices[t]),
-                                            first_vertex + static_cast<int>(indices[t + 1]),
-                                            first_vertex + static_cast<int>(indices[t + 2])});
-      scene_.path.material.push_back(slot);
-      uv_.push_back({uv_of(indices[t]), uv_of(indices[t + 1]), uv_of(indices[t + 2])});
+      out.mesh.triangles.push_back({first_vertex + static_cast<int>(indices[t]),
+                                    first_vertex + static_cast<int>(indices[t + 1]),
+                                    first_vertex + static_cast<int>(indices[t + 2])});
+      out.material.push_back(slot);
+      out.uv.push_back({uv_of(indices[t]), uv_of(indices[t + 1]), uv_of(indices[t + 2])});
     }
-  }
-
-  long long triangle_count() const {
-    return static_cast<long long>(scene_.path.mesh.triangles.size());
+    triangle_count_ += static_cast<long long>(indices.size() / 3);
   }
 
   const GltfReader& reader_;
-  MaterialScene& scene_;
-  long long vertex_count_ = 0;
-  bool has_uv_ = false;
-  std::vector<std::array<Vec2f, 3>> uv_;
+  long long vertex_count_ = 0;   // read so far, into any Triangles
+  long long triangle_count_ = 0; // likewise
 };
 
 // [listing:gltf_camera]
@@ -852,61 +871,158 @@ std::optional<CameraSpec> camera_of(const GltfReader& reader,
 }
 // [/listing:gltf_camera]
 
+// The extensions a file requires, each one this loader reads.
+void check_required_extensions(const GltfReader& reader) {
+  for (const std::string& extension : reader.model().extensionsRequired)
+    if (!k_supported_required.contains(extension))
+      reader.fail("requires the extension " + extension +
+                  ", which this loader does not read (it reads "
+                  "KHR_materials_emissive_strength, KHR_materials_ior and "
+                  "KHR_materials_transmission)");
+}
+
+// Every material of the file, in its order (a primitive's material number is its slot), into
+// scene.materials, their textures into scene.textures. Returns the slot glTF's default
+// material takes if a primitive names none: the one after them.
+int read_materials(const GltfReader& reader, MaterialScene& scene,
+                   const TextureLimits& limits) {
+  MaterialReader materials(reader, scene, limits);
+  for (std::size_t k = 0; k < reader.model().materials.size(); ++k)
+    scene.materials.push_back(materials.material(static_cast<int>(k)));
+  return static_cast<int>(scene.materials.size());
+}
+
+// Zero-area triangles are valid and never hit, as in chapter 05; one with area must be large
+// enough for float's products (chapter 03's supported range). Returns how many are flat;
+// `where` begins each message ("" or "mesh 2: ").
+long long count_flat_triangles(const GltfReader& reader, const ch04::Mesh& mesh,
+                               const std::string& where) {
+  long long flat = 0;
+  for (int i = 0; i < static_cast<int>(mesh.triangles.size()); ++i) {
+    const ch04::TriangleF t = mesh.triangle(i);
+    if (ch04::is_flat(t)) {
+      ++flat;
+    } else if (const double span = ch04::triangle_span(t); span < ch03::k_min_length) {
+      reader.fail(where + "triangle " + std::to_string(i) + " spans only " +
+                  std::to_string(span) + "; a triangle with area must span at least " +
+                  std::to_string(ch03::k_min_length));
+    }
+  }
+  return flat;
+}
+
+void refuse_all_flat(const GltfReader& reader, long long flat, long long triangles) {
+  if (flat == triangles)
+    reader.fail("all " + std::to_string(flat) +
+                " triangles are flat (zero area in float): nothing to intersect");
+}
+
 } // namespace
 
 MaterialScene load_gltf_material_scene(const std::string& path, const TextureLimits& limits,
                                        const ch05::LoadLimits& load_limits) {
   const tinygltf::Model model = parse_gltf(path, load_limits);
   const GltfReader reader(path, model, load_limits);
-  for (const std::string& extension : model.extensionsRequired)
-    if (!k_supported_required.contains(extension))
-      reader.fail("requires the extension " + extension +
-                  ", which this loader does not read (it reads "
-                  "KHR_materials_emissive_strength, KHR_materials_ior and "
-                  "KHR_materials_transmission)");
+  check_required_extensions(reader);
 
   MaterialScene scene;
-  MaterialReader materials(reader, scene, limits);
-  for (std::size_t k = 0; k < model.materials.size(); ++k)
-    scene.materials.push_back(materials.material(static_cast<int>(k)));
-  const int default_slot = static_cast<int>(scene.materials.size()); // if a primitive needs it
+  const int default_slot = read_materials(reader, scene, limits); // if a primitive needs it
 
   const std::vector<PlacedNode> placed = flatten_nodes(reader);
-  MeshBuilder builder(reader, scene);
+  MeshBuilder builder(reader);
+  Triangles all;
   for (const PlacedNode& p : placed)
     if (model.nodes[p.node].mesh >= 0)
-      builder.add_mesh(model.nodes[p.node].mesh, p.world, default_slot);
+      builder.add_mesh(model.nodes[p.node].mesh, &p.world, default_slot, all);
+  scene.path.mesh = std::move(all.mesh);
+  scene.path.material = std::move(all.material);
   if (std::ranges::find(scene.path.material, default_slot) != scene.path.material.end())
     scene.materials.push_back(default_gltf_material());
   if (scene.path.mesh.triangles.empty())
     reader.fail("no triangles in the scene drawn (" + std::to_string(placed.size()) +
                 " nodes)");
-  if (builder.has_uv()) scene.uv = builder.uv();
+  if (all.has_uv) scene.uv = std::move(all.uv);
   scene.camera = camera_of(reader, placed, scene.path.warnings);
 
-  // Zero-area triangles are valid and never hit, as in chapter 05; one with area must be large
-  // enough for float's products (chapter 03's supported range).
-  long long flat = 0;
-  for (int i = 0; i < static_cast<int>(scene.path.mesh.triangles.size()); ++i) {
-    const ch04::TriangleF t = scene.path.mesh.triangle(i);
-    if (ch04::is_flat(t)) {
-      ++flat;
-    } else if (const double span = ch04::triangle_span(t); span < ch03::k_min_length) {
-      reader.fail("triangle " + std::to_string(i) + " spans only " + std::to_string(span) +
-                  "; a triangle with area must span at least " +
-                  std::to_string(ch03::k_min_length));
-    }
-  }
-  if (flat == static_cast<long long>(scene.path.mesh.triangles.size()))
-    reader.fail("all " + std::to_string(flat) +
-                " triangles are flat (zero area in float): nothing to intersect");
-  scene.path.description = path + ": " + std::to_string(scene.path.mesh.triangles.size()) +
-                           " triangles (" + std::to_string(flat) +
-                           " of zero area, never hit), " +
+  const long long flat = count_flat_triangles(reader, scene.path.mesh, "");
+  const auto triangles = static_cast<long long>(scene.path.mesh.triangles.size());
+  refuse_all_flat(reader, flat, triangles);
+  scene.path.description = path + ": " + std::to_string(triangles) + " triangles (" +
+                           std::to_string(flat) + " of zero area, never hit), " +
                            std::to_string(model.materials.size()) + " materials, " +
                            std::to_string(scene.textures.size()) + " textures, " +
                            std::to_string(placed.size()) + " nodes";
   finish_material_scene(scene, path);
+  return scene;
+}
+
+// [listing:gltf_instanced_load]
+// The same walk of the nodes as the flattening loader's; where it appends a node's mesh placed
+// by the node's world matrix, this reads the mesh once, the first time a node carries it, and
+// appends an instance: the mesh's number and the matrix.
+GltfInstancedScene load_gltf_instanced_scene(const std::string& path,
+                                             const TextureLimits& limits,
+                                             const ch05::LoadLimits& load_limits,
+                                             long long max_instances) {
+  const tinygltf::Model model = parse_gltf(path, load_limits);
+  const GltfReader reader(path, model, load_limits);
+  check_required_extensions(reader);
+
+  // The materials and their textures, read as the flattening loader reads them.
+  MaterialScene materials;
+  const int default_slot = read_materials(reader, materials, limits);
+
+  const std::vector<PlacedNode> placed = flatten_nodes(reader);
+  GltfInstancedScene scene;
+  MeshBuilder builder(reader);
+  std::vector<int> kept(model.meshes.size(), -1); // glTF mesh -> its index in scene.meshes
+  long long placed_triangles = 0;
+  for (const PlacedNode& p : placed) {
+    const int gltf_mesh = model.nodes[p.node].mesh;
+    if (gltf_mesh < 0) continue;
+    check_mesh_index(reader, gltf_mesh);
+    if (static_cast<long long>(scene.instances.size()) >= max_instances)
+      reader.fail("node " + std::to_string(p.node) + " places a mesh beyond the " +
+                  std::to_string(max_instances) + " instances this loader keeps");
+    if (kept[gltf_mesh] < 0) {
+      Triangles read;
+      builder.add_mesh(gltf_mesh, nullptr, default_slot, read);
+      if (!read.has_uv) read.uv.clear();
+      kept[gltf_mesh] = static_cast<int>(scene.meshes.size());
+      scene.meshes.push_back(
+          {std::move(read.mesh), std::move(read.material), std::move(read.uv), gltf_mesh});
+    }
+    scene.instances.push_back({kept[gltf_mesh], p.world, p.node});
+    placed_triangles +=
+        static_cast<long long>(scene.meshes[kept[gltf_mesh]].mesh.triangles.size());
+  }
+  // [/listing:gltf_instanced_load]
+  const bool default_used = std::ranges::any_of(scene.meshes, [&](const GltfMesh& m) {
+    return std::ranges::find(m.material, default_slot) != m.material.end();
+  });
+  if (default_used) materials.materials.push_back(default_gltf_material());
+  if (placed_triangles == 0)
+    reader.fail("no triangles in the scene drawn (" + std::to_string(placed.size()) +
+                " nodes)");
+  scene.camera = camera_of(reader, placed, materials.path.warnings);
+
+  long long flat = 0, stored = 0;
+  for (const GltfMesh& m : scene.meshes) {
+    flat += count_flat_triangles(reader, m.mesh, "mesh " + std::to_string(m.gltf_mesh) + ": ");
+    stored += static_cast<long long>(m.mesh.triangles.size());
+  }
+  refuse_all_flat(reader, flat, stored);
+  scene.materials = std::move(materials.materials);
+  scene.textures = std::move(materials.textures);
+  scene.warnings = std::move(materials.path.warnings);
+  scene.description = path + ": " + std::to_string(scene.meshes.size()) + " meshes of " +
+                      std::to_string(stored) + " triangles (" + std::to_string(flat) +
+                      " of zero area, never hit) placed by " +
+                      std::to_string(scene.instances.size()) + " instances as " +
+                      std::to_string(placed_triangles) + " triangles, " +
+                      std::to_string(model.materials.size()) + " materials, " +
+                      std::to_string(scene.textures.size()) + " textures, " +
+                      std::to_string(placed.size()) + " nodes";
   return scene;
 }
 

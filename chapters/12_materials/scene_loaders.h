@@ -4,9 +4,12 @@
 // room written in either format renders the same image.
 #pragma once
 
+#include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "material_scene.h"
 #include "obj_loader.h"
@@ -47,11 +50,64 @@ MaterialScene load_obj_material_scene(const std::string& path,
 // naming the file and the problem, for what cannot be read honestly: malformed JSON, missing
 // buffers, an accessor outside its buffer view, an index outside its vertices, a type or
 // component type the attribute does not allow, numbers that are not finite, a node reached
-// twice, counts beyond `load_limits`, an extension the file requires that is not one of the
-// three above.
+// twice or more than k_max_gltf_node_depth levels deep (below), counts beyond `load_limits`,
+// an extension the file requires that is not one of the three above.
 MaterialScene load_gltf_material_scene(const std::string& path,
                                        const TextureLimits& limits = {},
                                        const ch05::LoadLimits& load_limits = {});
+
+// [listing:gltf_instanced]
+// The node graph can also be kept instead of flattened: each glTF mesh read once, in its own
+// space, and placed by instances, one for every node of the scene that carries it. Rendering
+// such a scene (chapter 13) stores a mesh once however often it appears.
+struct GltfInstance {
+  int mesh;                     // index into GltfInstancedScene::meshes
+  std::array<double, 16> world; // the node's world matrix, column-major as glTF stores it:
+                                // element (row r, column c) is world[4 c + r]
+  int node;                     // the glTF node that places it (for messages)
+};
+
+struct GltfMesh {
+  ch04::Mesh mesh;                      // in the mesh's own space, as the file gives it
+  std::vector<int> material;            // each triangle's slot in GltfInstancedScene::materials
+  std::vector<std::array<Vec2f, 3>> uv; // per triangle, its corners'; empty: no TEXCOORD_0
+  int gltf_mesh;                        // the glTF mesh it was read from (for messages)
+};
+
+// Meshes are numbered in the order the depth-first walk of the nodes first meets them, and
+// instances in the order it meets them: the order in which load_gltf_material_scene places
+// their triangles, so instance k's triangle t is the flattened scene's triangle (the triangles
+// of instances 0 .. k-1) + t, with the same material slot. A mesh that no node of the scene
+// drawn carries is left out.
+struct GltfInstancedScene {
+  std::vector<GltfMesh> meshes;
+  std::vector<Material> materials;    // the slots (as MaterialScene::materials)
+  std::vector<TextureImage> textures; // what the materials' texture indices name
+  std::vector<GltfInstance> instances;
+  std::optional<CameraSpec> camera; // as load_gltf_material_scene reads it
+  std::vector<std::string> warnings;
+  std::string description;
+};
+
+// The deepest node graph either glTF loader walks (a root is level 1), and the most instances
+// load_gltf_instanced_scene keeps by default. Modelling tools nest a few levels; a chain of
+// thousands of nodes is a damaged or hostile file, and each level adds a matrix product's
+// rounding to the world matrix. Both are refused in one line naming the file and the node.
+inline constexpr int k_max_gltf_node_depth = 64;
+inline constexpr long long k_max_gltf_instances = 1LL << 22;
+
+// The same file read as load_gltf_material_scene reads it, with every check it makes (the
+// same InputError for the same broken file), except that a mesh is read once, in its own
+// space: `load_limits` count the triangles and vertices stored, each mesh once however many
+// nodes place it, and the vertices (finite, within ch03::k_max_coordinate) and triangles (a
+// triangle with area spans at least ch03::k_min_length) are checked in the mesh's space. The
+// world matrices are the nodes' as read, finite, and not checked further: the renderer that
+// places meshes by them checks them. More than `max_instances` meshes placed is an InputError.
+GltfInstancedScene load_gltf_instanced_scene(const std::string& path,
+                                             const TextureLimits& limits = {},
+                                             const ch05::LoadLimits& load_limits = {},
+                                             long long max_instances = k_max_gltf_instances);
+// [/listing:gltf_instanced]
 
 // What both loaders end with: path.materials made from `materials` (albedo the base colour,
 // the same emission), the light table built, and check_material_scene run, naming `name`.
