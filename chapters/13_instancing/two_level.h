@@ -1,0 +1,111 @@
+// Chapter 13: the two-level walk. The top level is a binary tree over the instances' world
+// boxes, in chapter 07's layout (chapter 10's LBVH over boxes builds it, every frame if the
+// instances move); its leaves name instances. At a leaf the ray goes to the instance's own
+// space and walks that mesh's bottom-level tree, chapter 09's 4-wide packed tree, built once
+// per mesh however many instances place it. One RT_HD function for both backends and both
+// queries.
+#pragma once
+
+#include "bvh.h"
+#include "instance.h"
+#include "traverse.h"
+#include "wide_bvh.h"
+#include "wide_traverse.h"
+
+namespace rt::ch13 {
+
+using ch07::Query;
+using BottomView = ch09::Wide4PackedBvh::View;
+
+// [listing:two_level_view]
+// What the walk reads (host pointers on the CPU, device pointers on the GPU).
+struct TwoLevelView {
+  const ch07::BvhNode* top_nodes = nullptr; // top_node_count nodes; node 0 is the root
+  const int* top_leaf_ids = nullptr; // leaf slot k of the top level holds instance ids[k]
+  int top_node_count = 0;            // 0: no instances
+  const Instance* instances = nullptr;
+  const BottomView* meshes = nullptr; // each mesh's bottom-level tree, by Instance::mesh
+};
+// [/listing:two_level_view]
+
+// Top-level nodes and instances visited, and bottom-level nodes and triangles, per ray.
+struct TwoLevelCounters {
+  long long top_nodes = 0, instances = 0;
+  ch07::Counters bottom;
+  RT_HD void top_node() { ++top_nodes; }
+  RT_HD void instance() { ++instances; }
+};
+struct NoTwoLevelCounters {
+  ch07::NoCounters bottom;
+  RT_HD void top_node() {}
+  RT_HD void instance() {}
+};
+
+// [listing:visit_instance]
+// A top-level leaf: the ray, in the instance's space, through the mesh's tree with the
+// nearest hit so far as its tmax, so that only a nearer hit comes back. True when an any-hit
+// query is answered.
+template <Query kQuery, class C>
+RT_HD bool visit_instance(const TwoLevelView& scene, int id, unsigned mask, RayF& ray,
+                          InstanceHit& hit, C& counters) {
+  const Instance& instance = scene.instances[id];
+  if ((instance.mask & mask) == 0) return false;
+  counters.instance();
+  const ch07::TraceHit h = ch09::trace_wide<kQuery>(
+      scene.meshes[instance.mesh], to_object_space(instance, ray), counters.bottom);
+  if (h.triangle < 0) return false;
+  hit = {h.t, id, h.triangle, h.u, h.v};
+  ray.tmax = h.t;
+  return kQuery == Query::any;
+}
+// [/listing:visit_instance]
+
+// [listing:trace_instances]
+// The closest (or any) hit among all instances whose mask shares a bit with `mask`: chapter
+// 07's walk of a binary tree (nearer child first, the other on the stack; the 30-bit LBVH's
+// depth is proved below the stack's size in chapter 10) with an instance at every leaf.
+template <Query kQuery, class C = NoTwoLevelCounters>
+RT_HD InstanceHit trace_instances(const TwoLevelView& scene, RayF ray,
+                                  unsigned mask = 0xffffffffu, C&& counters = C{}) {
+  InstanceHit hit;
+  if (scene.top_node_count == 0 || !ch07::traceable(ray)) return hit;
+  const ch07::BoxRay box_ray = ch07::make_box_ray(ray);
+  int stack[ch07::k_max_bvh_depth];
+  int stack_size = 0;
+  int node = 0;
+  for (;;) {
+    counters.top_node();
+    const ch07::BvhNode n = scene.top_nodes[node];
+    float t0 = 0.0f, t1 = 0.0f;
+    bool enter0 = ch07::enter_box(n.box[0], box_ray, ray.tmin, ray.tmax, t0);
+    bool enter1 = ch07::enter_box(n.box[1], box_ray, ray.tmin, ray.tmax, t1);
+    if (enter0 && n.is_leaf(0)) {
+      if (visit_instance<kQuery>(scene, scene.top_leaf_ids[n.first[0]], mask, ray, hit,
+                                 counters))
+        return hit;
+      enter0 = false;
+    }
+    if (enter1 && n.is_leaf(1)) {
+      if (visit_instance<kQuery>(scene, scene.top_leaf_ids[n.first[1]], mask, ray, hit,
+                                 counters))
+        return hit;
+      enter1 = false;
+    }
+    if (enter0 && enter1) {
+      const bool second_nearer = t1 < t0;
+      stack[stack_size++] = second_nearer ? n.first[0] : n.first[1];
+      node = second_nearer ? n.first[1] : n.first[0];
+    } else if (enter0) {
+      node = n.first[0];
+    } else if (enter1) {
+      node = n.first[1];
+    } else if (stack_size > 0) {
+      node = stack[--stack_size];
+    } else {
+      return hit;
+    }
+  }
+}
+// [/listing:trace_instances]
+
+} // namespace rt::ch13

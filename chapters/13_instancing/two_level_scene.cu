@@ -1,0 +1,198 @@
+// Chapter 13: the scene of instances on a backend, and the passes over it. See
+// two_level_scene.h.
+#include "two_level_scene.h"
+
+#include "gpu_build.h"
+#include "rt/backend_array.h"
+#include "rt/error.h"
+#include "shade.h"
+#include "spawn.h"
+#include "trace.h"
+
+namespace rt::ch13 {
+
+using ch07::BvhNode;
+
+namespace {
+
+// [listing:move_instances]
+// One frame of the moving scene, an instance per item: its transform made again from its spin
+// for the frame's time (in double), both directions rounded to float, and its world box.
+struct MoveInstances {
+  const Spin* spins;
+  const int* mesh_of;
+  const Aabb* object_boxes;
+  double seconds;
+  Instance* instances;
+  Aabb* boxes;
+  RT_HD void operator()(int k) const {
+    const AffineD to_world = spin_transform(spins[k], seconds);
+    const int mesh = mesh_of[k];
+    instances[k] = placed_instance(to_world, mesh, instances[k].mask);
+    boxes[k] = world_box(object_boxes[mesh], to_world);
+  }
+};
+// [/listing:move_instances]
+
+template <Query kQuery> struct TraceRays {
+  TwoLevelView scene;
+  const RayF* rays;
+  InstanceHit* hits;
+  RT_HD void operator()(int i) const { hits[i] = trace_instances<kQuery>(scene, rays[i]); }
+};
+
+// [listing:shade_instance]
+// A pixel of the shaded image: the closest hit's triangle taken to the world by its instance,
+// its normal turned to face the ray, the sun's light if the shadow ray (any hit, through both
+// levels) reaches it, and a little sky light everywhere.
+struct ShadePixels {
+  TwoLevelView scene;
+  ShadeView shade;
+  ch03::Camera<float> camera;
+  int width;
+  Rgba8* pixels;
+  RT_HD void operator()(int index) const {
+    const int x = index % width, y = index / width;
+    const RayF ray = camera.ray_through_pixel(x, y);
+    const InstanceHit hit = trace_instances<Query::closest>(scene, ray);
+    Vec3f colour{0.55f, 0.7f, 0.9f}; // the sky
+    if (hit.instance >= 0) {
+      const Instance& instance = scene.instances[hit.instance];
+      const ch04::TriangleF local = shade.meshes[instance.mesh].triangle(hit.triangle);
+      const Affine& m = instance.to_world;
+      const Vec3f a = m.point(local.v0), b = m.point(local.v1), c = m.point(local.v2);
+      const Vec3f p = a * (1.0f - hit.u - hit.v) + b * hit.u + c * hit.v;
+      const Vec3f n = ch06::faced(ch06::unit_or(cross(b - a, c - a), Vec3f{0.0f, 1.0f, 0.0f}),
+                                  ray.direction * -1.0f);
+      const float facing = dot(n, shade.to_sun);
+      float sun = 0.0f;
+      if (facing > 0.0f) {
+        const RayF shadow{ch03::offset_ray_origin(p, n), shade.to_sun};
+        sun = trace_instances<Query::any>(scene, shadow).instance < 0 ? facing : 0.0f;
+      }
+      colour = shade.albedo[hit.instance] * (0.15f + 0.85f * sun);
+    }
+    pixels[index] = ch03::to_rgba8(colour);
+  }
+};
+// [/listing:shade_instance]
+
+} // namespace
+
+struct TwoLevelScene::Arrays {
+  Backend backend;
+  int instance_count;
+  std::vector<BackendArray<ch09::WideNode<4>>> bottom_nodes;
+  std::vector<BackendArray<ch09::PackedTriangles::Record>> bottom_triangles;
+  std::vector<BackendArray<Vec3f>> vertices;
+  std::vector<BackendArray<ch04::IndexedTriangle>> triangles;
+  BackendArray<BottomView> bottom_views;
+  BackendArray<ch04::MeshView> mesh_views;
+  BackendArray<Aabb> object_boxes;
+  BackendArray<Instance> instances;
+  BackendArray<Aabb> boxes;
+  BackendArray<Vec3f> albedo;
+  BackendArray<Spin> spins;
+  BackendArray<int> mesh_of;
+  ch10::LbvhOverBoxes top;
+  double bottom_bytes = 0.0;
+
+  Arrays(Backend b, int count) : backend(b), instance_count(count), top(b, count) {}
+};
+
+TwoLevelScene::TwoLevelScene(Backend backend, const InstanceScene& scene,
+                             const BottomLevel& bottom, std::vector<Spin> spins) {
+  const std::vector<Instance> instances = make_instances(scene);
+  if (instances.empty()) throw InputError("a scene of instances needs at least one instance");
+  if (spins.size() > instances.size()) throw InputError("more spins than instances");
+  const int count = static_cast<int>(instances.size());
+  arrays_ = std::make_unique<Arrays>(backend, count);
+  Arrays& a = *arrays_;
+  std::vector<BottomView> views;
+  std::vector<ch04::MeshView> meshes;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const ch09::Wide4PackedBvh& tree = bottom.trees.at(m);
+    a.bottom_nodes.emplace_back(backend, std::span(tree.nodes));
+    a.bottom_triangles.emplace_back(backend, std::span(tree.triangles));
+    a.vertices.emplace_back(backend, std::span(scene.meshes[m].vertices));
+    a.triangles.emplace_back(backend, std::span(scene.meshes[m].triangles));
+    BottomView view = backend == Backend::cpu ? tree.view() : BottomView{};
+    view.nodes = a.bottom_nodes.back().data();
+    view.triangles = a.bottom_triangles.back().data();
+    view.node_count = static_cast<int>(tree.nodes.size());
+    views.push_back(view);
+    meshes.push_back({a.vertices.back().data(), a.triangles.back().data(),
+                      static_cast<int>(scene.meshes[m].triangles.size())});
+    a.bottom_bytes += double(tree.nodes.size() * sizeof(tree.nodes[0]) +
+                             tree.triangles.size() * sizeof(tree.triangles[0]));
+  }
+  a.bottom_views = BackendArray<BottomView>(backend, std::span<const BottomView>(views));
+  a.mesh_views = BackendArray<ch04::MeshView>(backend, std::span<const ch04::MeshView>(meshes));
+  a.object_boxes = BackendArray<Aabb>(backend, std::span(bottom.object_boxes));
+  a.instances = BackendArray<Instance>(backend, std::span<const Instance>(instances));
+  std::vector<Aabb> boxes;
+  std::vector<int> mesh_of;
+  for (const Placement& p : scene.placements) {
+    boxes.push_back(world_box(bottom.object_boxes.at(p.mesh), p.to_world));
+    mesh_of.push_back(p.mesh);
+  }
+  a.boxes = BackendArray<Aabb>(backend, std::span<const Aabb>(boxes));
+  a.mesh_of = BackendArray<int>(backend, std::span<const int>(mesh_of));
+  std::vector<Vec3f> albedo = scene.albedo;
+  albedo.resize(instances.size(), Vec3f{0.7f, 0.7f, 0.7f});
+  a.albedo = BackendArray<Vec3f>(backend, std::span<const Vec3f>(albedo));
+  a.spins = BackendArray<Spin>(backend, std::span<const Spin>(spins));
+  build_top();
+}
+
+TwoLevelScene::~TwoLevelScene() = default;
+
+Backend TwoLevelScene::backend() const { return arrays_->backend; }
+int TwoLevelScene::instance_count() const { return arrays_->instance_count; }
+
+TwoLevelView TwoLevelScene::view() const {
+  const Arrays& a = *arrays_;
+  return {a.top.nodes(), a.top.leaf_ids(), a.top.node_count(), a.instances.data(),
+          a.bottom_views.data()};
+}
+
+ShadeView TwoLevelScene::shade_view() const {
+  return {arrays_->mesh_views.data(), arrays_->albedo.data()};
+}
+
+void TwoLevelScene::build_top() {
+  arrays_->top.build(arrays_->boxes.data(), arrays_->instance_count);
+}
+
+void TwoLevelScene::move(double seconds) {
+  Arrays& a = *arrays_;
+  const int spinning = static_cast<int>(a.spins.size());
+  if (spinning > 0)
+    for_each_index(a.backend, spinning,
+                   MoveInstances{a.spins.data(), a.mesh_of.data(), a.object_boxes.data(),
+                                 seconds, a.instances.data(), a.boxes.data()});
+  build_top();
+}
+
+double TwoLevelScene::bottom_bytes() const { return arrays_->bottom_bytes; }
+double TwoLevelScene::top_bytes() const {
+  const Arrays& a = *arrays_;
+  return double(a.instance_count) * (sizeof(Instance) + sizeof(Aabb) + sizeof(int)) +
+         double(a.top.node_count()) * sizeof(BvhNode);
+}
+
+void trace_rays(const TwoLevelScene& scene, Query query, const RayF* rays, int count,
+                InstanceHit* hits) {
+  if (query == Query::closest)
+    for_each_index(scene.backend(), count, TraceRays<Query::closest>{scene.view(), rays, hits});
+  else
+    for_each_index(scene.backend(), count, TraceRays<Query::any>{scene.view(), rays, hits});
+}
+
+void render_shaded(const TwoLevelScene& scene, const ch03::Camera<float>& camera, Extent extent,
+                   Rgba8* pixels) {
+  for_each_index(scene.backend(), static_cast<int>(extent.pixel_count()),
+                 ShadePixels{scene.view(), scene.shade_view(), camera, extent.width, pixels});
+}
+
+} // namespace rt::ch13
