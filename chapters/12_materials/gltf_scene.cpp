@@ -956,7 +956,6 @@ MaterialScene load_gltf_material_scene(const std::string& path, const TextureLim
   return scene;
 }
 
-// [listing:gltf_instanced_load]
 // The same walk of the nodes as the flattening loader's; where it appends a node's mesh placed
 // by the node's world matrix, this reads the mesh once, the first time a node carries it, and
 // appends an instance: the mesh's number and the matrix.
@@ -996,7 +995,6 @@ GltfInstancedScene load_gltf_instanced_scene(const std::string& path,
     placed_triangles +=
         static_cast<long long>(scene.meshes[kept[gltf_mesh]].mesh.triangles.size());
   }
-  // [/listing:gltf_instanced_load]
   const bool default_used = std::ranges::any_of(scene.meshes, [&](const GltfMesh& m) {
     return std::ranges::find(m.material, default_slot) != m.material.end();
   });
