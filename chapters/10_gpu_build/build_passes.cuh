@@ -45,7 +45,14 @@ struct MeshArrays {
   }
 };
 
-// Pass 1: each triangle's box, and its centroid as a box of its own for the reduction.
+// A box's centroid as a box of its own: what the reduction to the centroids' bounds joins.
+RT_HD inline Aabb centroid_box(const Aabb& box) {
+  Aabb centroid;
+  centroid.grow(box_centroid(box));
+  return centroid;
+}
+
+// Pass 1: each triangle's box, and its centroid for the reduction.
 struct BoxTriangles {
   MeshView mesh;
   Aabb* boxes;
@@ -53,14 +60,23 @@ struct BoxTriangles {
   RT_HD void operator()(int i) const {
     const Aabb box = ch07::bounds_of(mesh.triangle(i));
     boxes[i] = box;
-    Aabb centroid;
-    centroid.grow(box_centroid(box));
-    centroids[i] = centroid;
+    centroids[i] = centroid_box(box);
   }
 };
 
-// Pass 2: each triangle's Morton code, and its number beside it for the sort.
-template <class Code> struct EncodeTriangles {
+// [listing:centre_boxes]
+// Pass 1 of an order of boxes (chapter 13's instances): the boxes are given, so only their
+// centroids are made, as BoxTriangles makes a triangle's from its box.
+struct CentreBoxes {
+  const Aabb* boxes;
+  Aabb* centroids;
+  RT_HD void operator()(int i) const { centroids[i] = centroid_box(boxes[i]); }
+};
+// [/listing:centre_boxes]
+
+// Pass 2: each box's Morton code (a triangle's box, or a given box), and its number beside it
+// for the sort.
+template <class Code> struct EncodeBoxes {
   const Aabb* boxes;
   const Aabb* centroid_bounds;
   Code* codes;
@@ -101,8 +117,8 @@ struct LinkParents {
   }
 };
 
-struct RefitNodes {
-  RefitView tree;
+template <class Leaves> struct RefitNodes {
+  RefitView<Leaves> tree;
   RT_HD void operator()(int i) const { refit_node(tree, i); }
 };
 
@@ -117,28 +133,27 @@ template <class Code> inline std::size_t cub_scratch_bytes(int n) {
   return std::max<std::size_t>({reduce, sort, 1});
 }
 
-inline void reduce_bounds(Backend backend, BackendArray<Aabb>& per_triangle,
-                          BackendArray<Aabb>& out, BackendArray<unsigned char>& scratch) {
-  const int n = static_cast<int>(per_triangle.size());
+// The union of the first n boxes of `items` into *out.
+inline void reduce_bounds(Backend backend, const Aabb* items, int n, Aabb* out,
+                          BackendArray<unsigned char>& scratch) {
   if (backend == Backend::cpu) {
     Aabb all;
-    for (int i = 0; i < n; ++i) all = JoinBoxes{}(all, per_triangle.data()[i]);
-    out.data()[0] = all;
+    for (int i = 0; i < n; ++i) all = JoinBoxes{}(all, items[i]);
+    *out = all;
     return;
   }
   std::size_t bytes = scratch.size();
-  RT_CUDA_CHECK(cub::DeviceReduce::Reduce(scratch.data(), bytes, per_triangle.data(),
-                                          out.data(), n, JoinBoxes{}, Aabb{}));
+  RT_CUDA_CHECK(
+      cub::DeviceReduce::Reduce(scratch.data(), bytes, items, out, n, JoinBoxes{}, Aabb{}));
 }
 
 // [listing:sort_codes]
-// Codes and triangle numbers sorted by code. Both sorts are stable and the numbers start in
-// order, so equal codes keep their triangles in number order on both backends.
+// The first n codes and triangle numbers sorted by code. Both sorts are stable and the numbers
+// start in order, so equal codes keep their triangles in number order on both backends.
 template <class Code>
-inline void sort_by_code(Backend backend, BackendArray<Code>& codes, BackendArray<int>& ids,
-                         BackendArray<Code>& codes_out, BackendArray<int>& ids_out,
-                         BackendArray<unsigned char>& scratch) {
-  const int n = static_cast<int>(codes.size());
+inline void sort_by_code(Backend backend, int n, BackendArray<Code>& codes,
+                         BackendArray<int>& ids, BackendArray<Code>& codes_out,
+                         BackendArray<int>& ids_out, BackendArray<unsigned char>& scratch) {
   if (backend == Backend::cpu) {
     std::vector<std::pair<Code, int>> pairs(n);
     for (int i = 0; i < n; ++i) pairs[i] = {codes.data()[i], ids.data()[i]};
@@ -155,15 +170,38 @@ inline void sort_by_code(Backend backend, BackendArray<Code>& codes, BackendArra
 }
 // [/listing:sort_codes]
 
-// The boxes of a laid-out tree, from the bottom up (refit.h). `arrivals` holds a counter per
-// node; made by the caller before its clock starts, so the pass times kernels only.
+// The boxes of the first node_count nodes of a laid-out tree, from the bottom up (refit.h),
+// the leaves boxed by `leaves`. `arrivals` holds a counter per node; made by the caller before
+// its clock starts, so the pass times kernels only.
+template <class Leaves>
+inline void box_bottom_up(Backend backend, int node_count, BackendArray<BvhNode>& nodes,
+                          const BackendArray<int>& parents, BackendArray<unsigned>& arrivals,
+                          Leaves leaves) {
+  arrivals.fill_bytes(0);
+  for_each_index(backend, node_count,
+                 RefitNodes<Leaves>{{nodes.data(), parents.data(), arrivals.data(), leaves}});
+}
+
+// The same for a tree of triangles, their copies in leaf order.
 inline void box_bottom_up(Backend backend, BackendArray<BvhNode>& nodes,
                           const BackendArray<int>& parents,
                           const BackendArray<TriangleF>& triangles,
                           BackendArray<unsigned>& arrivals) {
-  arrivals.fill_bytes(0);
-  for_each_index(backend, static_cast<int>(nodes.size()),
-                 RefitNodes{{nodes.data(), parents.data(), arrivals.data(), triangles.data()}});
+  box_bottom_up(backend, static_cast<int>(nodes.size()), nodes, parents, arrivals,
+                TriangleLeaves{triangles.data()});
+}
+
+// The root of a tree of one leaf: child 0 is the leaf, of the one item in leaf slot 0, and
+// child 1 is empty (an empty box, which no ray enters, count 0 and first -1).
+RT_HD inline BvhNode single_leaf_root(const Aabb& box) {
+  BvhNode root;
+  root.box[0] = box;
+  root.box[1] = Aabb{};
+  root.first[0] = 0;
+  root.count[0] = 1;
+  root.first[1] = -1;
+  root.count[1] = 0;
+  return root;
 }
 
 // A mesh of one triangle: chapter 07's root whose child 0 is the whole mesh's leaf.
@@ -172,13 +210,7 @@ inline ch07::Bvh single_leaf_tree(const ch04::Mesh& mesh) {
   bvh.triangles = {mesh.triangle(0)};
   bvh.triangle_ids = {0};
   bvh.bounds = ch07::bounds_of(bvh.triangles[0]);
-  BvhNode root;
-  root.box[0] = bvh.bounds;
-  root.first[0] = 0;
-  root.count[0] = 1;
-  root.first[1] = -1;
-  root.count[1] = 0;
-  bvh.nodes = {root};
+  bvh.nodes = {single_leaf_root(bvh.bounds)};
   return bvh;
 }
 
@@ -201,35 +233,53 @@ inline std::size_t device_bytes_per_triangle() {
 }
 
 // [listing:morton_order]
-// The triangles in Morton order: the first passes of every builder of the chapter. The arrays
-// are allocated when it is made, the passes run by sort(), so a clock started in between times
-// kernels only.
+// Triangles, or boxes, in Morton order: the first passes of every builder of the chapter. The
+// arrays are allocated when it is made, the passes run by sort() (a mesh's triangles) or
+// sort_boxes() (boxes the caller keeps where the backend reads them), so a clock started in
+// between times kernels only. Both end in the same three passes: the centroids' bounds, the
+// codes, the sort.
 template <class Code> struct MortonOrder {
-  int n;
-  MeshView mesh; // where the backend reads it
-  BackendArray<Aabb> boxes;
+  int n;                    // the items the last sort put in order
+  MeshView mesh{};          // where the backend reads it; none for an order of boxes
+  BackendArray<Aabb> boxes; // each triangle's box; empty for an order of boxes
   BackendArray<Aabb> centroids, centroid_bounds;
   BackendArray<Code> codes, sorted_codes;
   BackendArray<int> ids, sorted_ids;
   BackendArray<unsigned char> scratch;
 
+  // The order of a mesh's triangles.
   MortonOrder(Backend backend, MeshView m)
-      : n(m.triangle_count), mesh(m), boxes(backend, n), centroids(backend, n),
-        centroid_bounds(backend, 1), codes(backend, n), sorted_codes(backend, n),
-        ids(backend, n), sorted_ids(backend, n),
-        scratch(backend, backend == Backend::gpu ? cub_scratch_bytes<Code>(n) : 0),
-        backend_(backend) {}
+      : MortonOrder(backend, m.triangle_count, m.triangle_count) {
+    mesh = m;
+  }
+  // The order of up to `capacity` boxes, given to sort_boxes.
+  MortonOrder(Backend backend, int capacity) : MortonOrder(backend, capacity, 0) {}
 
   void sort() {
     for_each_index(backend_, n, BoxTriangles{mesh, boxes.data(), centroids.data()});
-    reduce_bounds(backend_, centroids, centroid_bounds, scratch);
-    for_each_index(
-        backend_, n,
-        EncodeTriangles<Code>{boxes.data(), centroid_bounds.data(), codes.data(), ids.data()});
-    sort_by_code(backend_, codes, ids, sorted_codes, sorted_ids, scratch);
+    encode_and_sort(boxes.data());
+  }
+  void sort_boxes(const Aabb* given, int count) {
+    n = count;
+    for_each_index(backend_, n, CentreBoxes{given, centroids.data()});
+    encode_and_sort(given);
   }
 
 private:
+  MortonOrder(Backend backend, int capacity, int triangle_count)
+      : n(capacity), boxes(backend, triangle_count), centroids(backend, capacity),
+        centroid_bounds(backend, 1), codes(backend, capacity), sorted_codes(backend, capacity),
+        ids(backend, capacity), sorted_ids(backend, capacity),
+        scratch(backend, backend == Backend::gpu ? cub_scratch_bytes<Code>(capacity) : 0),
+        backend_(backend) {}
+
+  void encode_and_sort(const Aabb* items) {
+    reduce_bounds(backend_, centroids.data(), n, centroid_bounds.data(), scratch);
+    for_each_index(backend_, n,
+                   EncodeBoxes<Code>{items, centroid_bounds.data(), codes.data(), ids.data()});
+    sort_by_code(backend_, n, codes, ids, sorted_codes, sorted_ids, scratch);
+  }
+
   Backend backend_;
 };
 // [/listing:morton_order]

@@ -5,6 +5,7 @@
 #include "gpu_build.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -89,35 +90,69 @@ struct WriteLayout {
   }
 };
 
+// The tree of a single box: the root of chapter 07's one-leaf tree (single_leaf_root), whose
+// leaf slot 0 holds box 0.
+struct WriteSingleLeaf {
+  const Aabb* boxes;
+  BvhNode* nodes;
+  int* leaf_ids;
+  RT_HD void operator()(int) const {
+    nodes[0] = single_leaf_root(boxes[0]);
+    leaf_ids[0] = 0;
+  }
+};
+
+// Passes 3 to 5 over n >= 2 sorted codes, whatever they are the codes of: Karras's
+// hierarchy, each interior node's place in chapter 07's depth-first array, and the nodes
+// written there with their parent links, boxes still to come. The arrays hold up to
+// `capacity` codes' nodes, made once.
+template <class Code> struct HierarchyPasses {
+  BackendArray<int> parents, index, too_deep;
+  BackendArray<KarrasNode> karras;
+
+  HierarchyPasses(Backend backend, int capacity)
+      : parents(backend, std::max(capacity - 1, 0)), index(backend, std::max(capacity - 1, 0)),
+        too_deep(backend, 1), karras(backend, std::max(capacity - 1, 0)), backend_(backend) {}
+
+  // The n - 1 nodes into `nodes`, their parents into `node_parents`. False when the tree is
+  // deeper than the traversal stack allows; only looked at (a wait on the GPU) with
+  // check_depth, which 30-bit codes do not need (see the depth proof below).
+  bool lay_out(const Code* sorted_codes, int n, BvhNode* nodes, int* node_parents,
+               bool check_depth) {
+    if (check_depth) too_deep.fill_bytes(0);
+    for_each_index(backend_, n - 1,
+                   BuildHierarchy<Code>{sorted_codes, n, karras.data(), parents.data()});
+    for_each_index(
+        backend_, n - 1,
+        PlaceDepthFirst{karras.data(), parents.data(), index.data(), too_deep.data()});
+    if (check_depth && too_deep.to_host()[0] != 0) return false;
+    for_each_index(backend_, n - 1,
+                   WriteLayout{karras.data(), index.data(), nodes, node_parents});
+    return true;
+  }
+
+private:
+  Backend backend_;
+};
+
 // The LBVH's arrays for a mesh where the backend reads it, made once; build() runs the passes
 // into `tree`, as often as the vertices move.
 template <class Code> struct LbvhPasses {
   int n;
   MortonOrder<Code> order;
-  BackendArray<int> parents, index, too_deep;
-  BackendArray<KarrasNode> karras;
+  HierarchyPasses<Code> hierarchy;
   TreeArrays tree;
 
   LbvhPasses(Backend backend, MeshView mesh)
-      : n(mesh.triangle_count), order(backend, mesh), parents(backend, n - 1),
-        index(backend, n - 1), too_deep(backend, 1), karras(backend, n - 1),
+      : n(mesh.triangle_count), order(backend, mesh), hierarchy(backend, n),
         tree(backend, n - 1, n), backend_(backend) {}
 
-  // False when the tree is deeper than the traversal stack allows; only looked at (a wait on
-  // the GPU) with check_depth, which 30-bit codes do not need (see the depth proof below).
+  // False when check_depth and the tree is deeper than the traversal stack allows.
   bool build(bool check_depth) {
-    too_deep.fill_bytes(0);
     order.sort();
-    for_each_index(
-        backend_, n - 1,
-        BuildHierarchy<Code>{order.sorted_codes.data(), n, karras.data(), parents.data()});
-    for_each_index(
-        backend_, n - 1,
-        PlaceDepthFirst{karras.data(), parents.data(), index.data(), too_deep.data()});
-    if (check_depth && too_deep.to_host()[0] != 0) return false;
-    for_each_index(
-        backend_, n - 1,
-        WriteLayout{karras.data(), index.data(), tree.nodes.data(), tree.parents.data()});
+    if (!hierarchy.lay_out(order.sorted_codes.data(), n, tree.nodes.data(), tree.parents.data(),
+                           check_depth))
+      return false;
     for_each_index(backend_, n,
                    GatherTriangles{order.mesh, order.sorted_ids.data(), tree.triangles.data()});
     box_bottom_up(backend_, tree.nodes, tree.parents, tree.triangles, tree.arrivals);
@@ -204,6 +239,97 @@ LbvhOnBackend::LbvhOnBackend(Backend backend, ch04::MeshView mesh) {
 LbvhOnBackend::~LbvhOnBackend() = default;
 void LbvhOnBackend::build() { passes_->build(false); }
 TreeArrays& LbvhOnBackend::tree() { return passes_->tree; }
+
+// [listing:lbvh_over_boxes]
+// The LBVH over boxes: the passes of the mesh's LBVH with CentreBoxes for BoxTriangles, no
+// triangle copies, and leaves boxed from the caller's boxes through the sorted numbers.
+struct LbvhOverBoxes::Passes {
+  Backend backend;
+  int capacity;
+  int count = 0; // the boxes of the last build
+  MortonOrder<std::uint32_t> order;
+  HierarchyPasses<std::uint32_t> hierarchy;
+  BackendArray<BvhNode> nodes;
+  BackendArray<int> parents;
+  BackendArray<unsigned> arrivals;
+
+  Passes(Backend b, int c)
+      : backend(b), capacity(c), order(b, c), hierarchy(b, c), nodes(b, std::max(c - 1, 1)),
+        parents(b, std::max(c - 1, 1)), arrivals(b, std::max(c - 1, 1)) {}
+
+  void build(const Aabb* boxes, int n) {
+    count = n;
+    if (n == 1) {
+      for_each_index(backend, 1, WriteSingleLeaf{boxes, nodes.data(), order.sorted_ids.data()});
+    } else if (n >= 2) {
+      order.sort_boxes(boxes, n);
+      hierarchy.lay_out(order.sorted_codes.data(), n, nodes.data(), parents.data(), false);
+      box_bottom_up(backend, n - 1, nodes, parents, arrivals,
+                    BoxLeaves{boxes, order.sorted_ids.data()});
+    }
+  }
+};
+// [/listing:lbvh_over_boxes]
+
+LbvhOverBoxes::LbvhOverBoxes(Backend backend, int capacity) {
+  if (backend != Backend::cpu && backend != Backend::gpu)
+    throw UsageError("an LBVH over boxes needs a resolved backend");
+  if (capacity < 0 || capacity > ch07::k_max_bvh_triangles)
+    throw UsageError("an LBVH over boxes holds 0 to " +
+                     std::to_string(ch07::k_max_bvh_triangles) + " boxes, not " +
+                     std::to_string(capacity));
+  if (backend == Backend::gpu)
+    ch05::check_device_memory(static_cast<std::size_t>(capacity) * device_bytes_per_triangle(),
+                              "the LBVH over " + std::to_string(capacity) + " boxes");
+  passes_ = std::make_unique<Passes>(backend, capacity);
+}
+LbvhOverBoxes::~LbvhOverBoxes() = default;
+LbvhOverBoxes::LbvhOverBoxes(LbvhOverBoxes&&) noexcept = default;
+LbvhOverBoxes& LbvhOverBoxes::operator=(LbvhOverBoxes&&) noexcept = default;
+
+void LbvhOverBoxes::build(const Aabb* boxes, int count) {
+  if (count < 0 || count > passes_->capacity)
+    throw UsageError("an LBVH over boxes made for " + std::to_string(passes_->capacity) +
+                     " boxes was given " + std::to_string(count));
+  passes_->build(boxes, count);
+}
+const BvhNode* LbvhOverBoxes::nodes() const { return passes_->nodes.data(); }
+const int* LbvhOverBoxes::leaf_ids() const { return passes_->order.sorted_ids.data(); }
+int LbvhOverBoxes::count() const { return passes_->count; }
+int LbvhOverBoxes::node_count() const {
+  return passes_->count <= 1 ? passes_->count : passes_->count - 1;
+}
+int LbvhOverBoxes::capacity() const { return passes_->capacity; }
+
+BoxTree LbvhOverBoxes::to_host() const {
+  BoxTree tree;
+  tree.nodes = passes_->nodes.to_host();
+  tree.nodes.resize(node_count());
+  tree.leaf_ids = passes_->order.sorted_ids.to_host();
+  tree.leaf_ids.resize(count());
+  return tree;
+}
+
+BoxTree build_lbvh_over_boxes(Backend backend, std::span<const Aabb> boxes) {
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const Aabb& b = boxes[i];
+    const bool finite = std::isfinite(b.lo.x) && std::isfinite(b.lo.y) &&
+                        std::isfinite(b.lo.z) && std::isfinite(b.hi.x) &&
+                        std::isfinite(b.hi.y) && std::isfinite(b.hi.z);
+    if (!finite || b.empty())
+      throw InputError("LBVH over boxes: box " + std::to_string(i) +
+                       (finite ? " is empty (lo above hi)" : " is not finite"));
+  }
+  if (boxes.size() > static_cast<std::size_t>(ch07::k_max_bvh_triangles))
+    throw InputError("LBVH over boxes: " + std::to_string(boxes.size()) +
+                     " boxes, more than the " + std::to_string(ch07::k_max_bvh_triangles) +
+                     " the depth proof allows");
+  const int count = static_cast<int>(boxes.size());
+  const BackendArray<Aabb> d_boxes(backend, boxes);
+  LbvhOverBoxes lbvh(backend, count);
+  lbvh.build(d_boxes.data(), count);
+  return lbvh.to_host();
+}
 
 void refit_tree(Backend backend, TreeArrays& tree, ch04::MeshView mesh) {
   for_each_index(backend, mesh.triangle_count,

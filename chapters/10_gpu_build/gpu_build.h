@@ -5,7 +5,9 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "bvh.h"
 #include "mesh_gen.h"
@@ -47,6 +49,52 @@ private:
   struct Passes;
   std::unique_ptr<Passes> passes_;
 };
+
+// An LBVH over boxes, copied to the host: node_count nodes in chapter 07's layout, root 0, and
+// the box in each leaf slot. A leaf is a child with count 1 whose `first` is its slot k; slot
+// k holds box leaf_ids[k].
+struct BoxTree {
+  std::vector<ch07::BvhNode> nodes;
+  std::vector<int> leaf_ids;
+};
+
+// The LBVH of boxes that stay where the backend reads them (chapter 13's world boxes of its
+// instances, rewritten every frame): 30-bit Morton codes of the box centroids within the
+// centroids' bounds, chapter 10's hierarchy and depth-first layout, one box per leaf, node
+// boxes from the bottom up from the leaf boxes themselves. The same passes as build_lbvh, so
+// over the boxes of a mesh's triangles it makes build_lbvh's 30-bit tree, and both backends
+// make the same tree bit for bit; gpu_build.cu's depth proof holds for it (30-bit codes, at
+// most 2^28 boxes), so its depth is never checked. The caller guarantees finite, non-empty
+// boxes (build() does not look). One box: chapter 07's one-leaf root, child 1 empty; none: no
+// nodes.
+class LbvhOverBoxes {
+public:
+  // Every array for up to `capacity` boxes, CUB's scratch included, made here and only here.
+  LbvhOverBoxes(Backend backend, int capacity);
+  ~LbvhOverBoxes();
+  LbvhOverBoxes(LbvhOverBoxes&&) noexcept;
+  LbvhOverBoxes& operator=(LbvhOverBoxes&&) noexcept;
+
+  // The tree of boxes[0 .. count-1] (backend pointers, kept in place until the build has run).
+  // No allocation and, on the GPU, no wait: the passes are queued on the default stream, and
+  // whatever reads the tree there later sees it. Throws UsageError for a count above capacity.
+  void build(const ch07::Aabb* boxes, int count);
+
+  const ch07::BvhNode* nodes() const; // backend pointer: node_count() nodes, root 0
+  const int* leaf_ids() const;        // backend pointer: count() entries, slot k's box number
+  int node_count() const;             // count() - 1; 1 for a single box; 0 for none
+  int count() const;                  // the boxes of the last build
+  int capacity() const;
+  BoxTree to_host() const; // the last build's tree copied to the host (on the GPU, a wait)
+
+private:
+  struct Passes;
+  std::unique_ptr<Passes> passes_;
+};
+
+// The LBVH over `boxes` on the resolved backend, copied to the host: LbvhOverBoxes made for
+// them, built once. Throws InputError naming the first box that is empty or not finite.
+BoxTree build_lbvh_over_boxes(Backend backend, std::span<const ch07::Aabb> boxes);
 
 // PLOC's search radius: each cluster looks for its nearest neighbour among this many clusters
 // on either side of it in Morton order.

@@ -1,7 +1,8 @@
 // Chapter 10: boxes from the bottom up, for any tree in chapter 07's layout. Every node starts
 // a thread; a thread boxes its node's leaf children, and whichever thread completes a node (the
 // second of its two children to be boxed) boxes it and goes on to its parent. The same pass
-// gives a freshly built tree its boxes and refits an old one to moved vertices.
+// gives a freshly built tree its boxes and refits an old one to moved vertices, and boxes a
+// tree whose leaves hold boxes rather than triangles.
 #pragma once
 
 #include "bvh.h"
@@ -41,27 +42,48 @@ RT_HD inline Aabb load_child_box(const BvhNode& node, int c) {
   return box;
 }
 
+// [listing:leaves]
+// The box of a leaf child, the run of `count` leaf slots from `first`. A tree of triangles
+// holds their copies in leaf order; a tree of boxes (chapter 13's instances) holds in slot k
+// the number of a box the caller keeps. One box grown from the empty box is that box, bit for
+// bit, so both kinds of tree get the same boxes from the same triangles.
+struct TriangleLeaves {
+  const TriangleF* triangles; // in leaf order
+  RT_HD Aabb box(int first, int count) const {
+    Aabb box;
+    for (int k = first; k < first + count; ++k) box.grow(ch07::bounds_of(triangles[k]));
+    return box;
+  }
+};
+struct BoxLeaves {
+  const Aabb* boxes; // the caller's, in its own order
+  const int* ids;    // slot k holds boxes[ids[k]]
+  RT_HD Aabb box(int first, int count) const {
+    Aabb box;
+    for (int k = first; k < first + count; ++k) box.grow(boxes[ids[k]]);
+    return box;
+  }
+};
+// [/listing:leaves]
+
 // What the pass reads and writes: the nodes (boxes written), each node's parent as
 // 2 * parent + child slot (-1 for the root), one arrival counter per node (zero at the start)
-// and the triangles in leaf order.
-struct RefitView {
+// and what boxes the leaves.
+template <class Leaves> struct RefitView {
   BvhNode* nodes;
   const int* parents;
   unsigned* arrivals;
-  const TriangleF* triangles;
+  Leaves leaves;
 };
 
 // [listing:refit_node]
 // The thread of node i. Boxes are unions of boxes (min and max round nothing), so the order in
 // which threads arrive changes no bit of the result: every backend makes the same tree.
-RT_HD inline void refit_node(const RefitView& tree, int i) {
+template <class Leaves> RT_HD inline void refit_node(const RefitView<Leaves>& tree, int i) {
   for (int c = 0; c < 2; ++c) {
     const BvhNode& node = tree.nodes[i];
     if (!node.is_leaf(c)) continue;
-    Aabb box;
-    for (int k = node.first[c]; k < node.first[c] + node.count[c]; ++k)
-      box.grow(ch07::bounds_of(tree.triangles[k]));
-    tree.nodes[i].box[c] = box;
+    tree.nodes[i].box[c] = tree.leaves.box(node.first[c], node.count[c]);
     if (!second_arrival(&tree.arrivals[i])) continue;
     // This thread completed node i: climb while it keeps completing nodes.
     for (int x = i; tree.parents[x] >= 0;) {
