@@ -76,8 +76,10 @@ public:
   LbvhOverBoxes& operator=(LbvhOverBoxes&&) noexcept;
 
   // The tree of boxes[0 .. count-1] (backend pointers, kept in place until the build has run).
-  // No allocation and, on the GPU, no wait: the passes are queued on the default stream, and
-  // whatever reads the tree there later sees it. Throws UsageError for a count above capacity.
+  // On the GPU no allocation and no wait: the passes are queued on the default stream, and
+  // whatever reads the tree there later sees it (on CPU threads the passes run before it
+  // returns, and std::stable_sort takes a buffer of its own). Throws UsageError for a count
+  // above capacity.
   void build(const ch07::Aabb* boxes, int count);
 
   const ch07::BvhNode* nodes() const; // backend pointer: node_count() nodes, root 0
