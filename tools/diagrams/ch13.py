@@ -403,11 +403,11 @@ def far_away(out):
         ax.set_xticks([])
         ax.set_yticks([])
     fig.text(0.5, -0.04, f"Near 10⁵ a float is a multiple of {ulp} (grey lines: the float grid, "
-             "drawn in units of each sphere's radius; dashed: the exact sphere). Flattening places every vertex there and "
-             "rounds it to that grid:\nat radius 0.05 the sphere is lumpy, at 0.01 a cross "
-             "of five grid squares, at 0.001 (the scale chapter 13 still accepts) a handful of "
-             "points. The instance keeps the first panel's mesh.", ha="center", fontsize=9,
-             color=GREY)
+             "drawn in units of each sphere's radius; dashed: the exact sphere). Flattening "
+             "places every vertex there and rounds it to that grid:\nat radius 0.05 the sphere "
+             "is lumpy, at 0.01 a cross of five grid squares, at 0.001 (the smallest scale "
+             "chapter 13 accepts) a handful of points. The instance keeps the first panel's "
+             "mesh.", ha="center", fontsize=9, color=GREY)
     save(fig, out / "13_far_away.svg")
     plt.close(fig)
 
