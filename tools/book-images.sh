@@ -313,3 +313,17 @@ python3 tools/plot-report.py --metric triangles_per_ray --rows "brute force" --r
 # The closing chapter: a schematic of software against hardware traversal, and chapter 09's
 # 4-wide packed tree against OptiX on the H200 (book/data/09_benchmark_h200.json, anchors.json).
 python3 tools/diagrams/closing.py "$img"
+
+# Chapter 13: a forest of a hundred torus knots (10 000 002 triangles as placed, 100 002
+# stored), a million 320-triangle icospheres (--small), and the instanced shelf's glTF node
+# graph (assets/instanced_shelf.gltf), each shaded with shadow rays on the CPU, small, without
+# the flattened scene the report compares against (--flat-limit 0). The diagrams: one mesh in
+# object and world space with a ray in both, the top level over eight instances, the two-level
+# walk, and a small sphere far from the origin flattened to the float grid (numpy).
+"$bin/ch13_instancing" --headless --backend cpu --instances 100 --width 640 --height 360 \
+  --frames 1 --flat-limit 0 --output "$img/13_forest.png" >/dev/null
+"$bin/ch13_instancing" --headless --backend cpu --small --instances 1000000 --width 320 \
+  --height 180 --frames 1 --flat-limit 0 --output "$img/13_million.png" >/dev/null
+"$bin/ch13_instancing" --headless --backend cpu --scene assets/instanced_shelf.gltf --width 640 \
+  --height 360 --frames 1 --flat-limit 0 --output "$img/13_shelf.png" >/dev/null
+python3 tools/diagrams/ch13.py "$img"
