@@ -102,17 +102,17 @@ struct PlaceClusters {
   }
 };
 
-// Interior node j in chapter 07's layout, boxes included, and its leaves' triangles in their
-// slots. The walk made every box as the union of its children's, left one grown by the right,
-// from the triangles' own boxes up: the very operations, in the very order, of the bottom-up
-// pass that boxes the other builders' trees (refit.h), so its boxes are that pass's, and it
-// need not run.
+// Interior node j in chapter 07's layout, boxes included, and the triangle numbers of its
+// leaves in their slots (the triangles themselves follow in slot order, GatherTriangles: a
+// node's slots are scattered over the array, and 36-byte triangle copies written there cost
+// more than four-byte numbers). The walk made every box as the union of its children's, left
+// one grown by the right, from the triangles' own boxes up: the very operations, in the very
+// order, of the bottom-up pass that boxes the other builders' trees (refit.h), so its boxes are
+// that pass's, and it need not run.
 struct WriteClusters {
   ClusterTree tree;
   const int *index, *first_slot, *sorted_ids;
-  MeshView mesh;
   BvhNode* out;
-  TriangleF* triangles;
   int* triangle_ids;
   RT_HD void operator()(int j) const {
     const int at = index[j];
@@ -125,10 +125,7 @@ struct WriteClusters {
       written.box[c] = tree.boxes[child];
       written.first[c] = leaf ? slot : index[child - tree.n];
       written.count[c] = leaf ? 1 : 0;
-      if (leaf) {
-        triangles[slot] = mesh.triangle(sorted_ids[child]);
-        triangle_ids[slot] = sorted_ids[child];
-      }
+      if (leaf) triangle_ids[slot] = sorted_ids[child];
     }
     out[at] = written;
   }
@@ -173,8 +170,10 @@ std::optional<GpuBuild> hploc_tree(Backend backend, const ch04::Mesh& mesh, int 
                  PlaceClusters{tree, a.index.data(), a.first_slot.data(), a.status.data() + 1});
   for_each_index(backend, n - 1,
                  WriteClusters{tree, a.index.data(), a.first_slot.data(),
-                               order.sorted_ids.data(), order.mesh, a.out_nodes.data(),
-                               a.triangles.data(), a.triangle_ids.data()});
+                               order.sorted_ids.data(), a.out_nodes.data(),
+                               a.triangle_ids.data()});
+  for_each_index(backend, n,
+                 GatherTriangles{order.mesh, a.triangle_ids.data(), a.triangles.data()});
   const std::vector<int> status = a.status.to_host();
   if (status[0] != n - 1)
     throw Error("H-PLOC made " + std::to_string(status[0]) + " nodes for " + std::to_string(n) +
