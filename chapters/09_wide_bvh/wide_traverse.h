@@ -624,14 +624,17 @@ struct LocalStack {
 // distance: one popped after a nearer hit is tested again with the shorter ray, and its
 // children's boxes reject what now lies beyond tmax. `Stack` says where the stack lives.
 // `intersect` is the triangle test (WatertightTest or, on the CPU, one with fixed axes).
+// `root` is the node the walk starts from: 0, the tree's root, or (chapter 13) the root of a
+// subtree, whose triangles alone are then searched.
 template <Query kQuery, class Stack = LocalStack, class Tree, class C, class Test>
-RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters, Test intersect) {
+RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters, Test intersect,
+                          int root = 0) {
   TraceHit hit;
   if (tree.node_count == 0 || !ch07::traceable(ray)) return hit;
   const auto r = make_traversal_ray(ray);
   Stack stack;
   int stack_size = 0;
-  NodeGroup group{0, (1u << (24 + r.octant_inverse)) | 1u};
+  NodeGroup group{root, (1u << (24 + r.octant_inverse)) | 1u};
   for (;;) {
     if ((group.hits & k_child_bits) == 0) {
       if (stack_size == 0) return hit;
@@ -656,8 +659,8 @@ RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters, Test interse
 // [/listing:wide_traverse]
 
 template <Query kQuery, class Stack = LocalStack, class Tree, class C = ch07::NoCounters>
-RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}) {
-  return trace_wide<kQuery, Stack>(tree, ray, counters, WatertightTest(ray));
+RT_HD TraceHit trace_wide(const Tree& tree, RayF ray, C&& counters = C{}, int root = 0) {
+  return trace_wide<kQuery, Stack>(tree, ray, counters, WatertightTest(ray), root);
 }
 
 } // namespace rt::ch09
