@@ -2,6 +2,7 @@
 #include "instance_scene.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -30,7 +31,53 @@ std::vector<Instance> make_instances(const InstanceScene& scene) {
   return out;
 }
 
-BottomLevel build_bottom_level(const std::vector<ch04::Mesh>& meshes) {
+namespace {
+
+// The subtrees `levels` below the root of a 4-wide tree, as instance_scene.h says: a node whose
+// slots are all subtrees is replaced by them, any other stays.
+void open_tree(const ch09::Wide4PackedBvh& tree, const Aabb& root_box, int levels,
+               std::vector<int>& nodes, std::vector<Aabb>& boxes) {
+  nodes = {0};
+  boxes = {root_box};
+  for (int level = 0; level < levels; ++level) {
+    std::vector<int> next_nodes;
+    std::vector<Aabb> next_boxes;
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const ch09::WideNode<4>& node = tree.nodes[nodes[k]];
+      // A child's place in the node is not its slot: an interior child's meta byte names its
+      // (octant) slot, and it is node child_base + the interior children in slots below it,
+      // as the walk finds it (wide_traverse.h).
+      bool all_subtrees = true;
+      int children = 0;
+      for (int c = 0; c < 4; ++c) {
+        if (node.meta[c] == 0) continue; // an empty place
+        if (!ch09::is_interior_meta(node.meta[c])) all_subtrees = false;
+        ++children;
+      }
+      if (!all_subtrees || children < 2) {
+        next_nodes.push_back(nodes[k]);
+        next_boxes.push_back(boxes[k]);
+        continue;
+      }
+      for (int c = 0; c < 4; ++c) {
+        if (node.meta[c] == 0) continue;
+        const int slot = (node.meta[c] & 31) - ch09::k_triangle_bits;
+        next_nodes.push_back(node.child_base +
+                             std::popcount(unsigned(node.imask) & ((1u << slot) - 1u)));
+        next_boxes.push_back(ch09::child_box_of(node, c));
+      }
+    }
+    nodes = std::move(next_nodes);
+    boxes = std::move(next_boxes);
+  }
+}
+
+} // namespace
+
+BottomLevel build_bottom_level(const std::vector<ch04::Mesh>& meshes, int open_levels) {
+  if (open_levels < 0 || open_levels > k_max_open_levels)
+    throw InputError("opening instances " + std::to_string(open_levels) +
+                     " levels: it takes 0 to " + std::to_string(k_max_open_levels));
   const auto start = std::chrono::steady_clock::now();
   BottomLevel bottom;
   for (const ch04::Mesh& mesh : meshes) {
@@ -40,6 +87,12 @@ BottomLevel build_bottom_level(const std::vector<ch04::Mesh>& meshes) {
     bottom.trees.push_back(ch09::pack_wide<4, ch09::PackedTriangles>(
         ch09::collapse(binary, 4, ch09::Collapse::sah)));
     const ch09::Wide4PackedBvh& tree = bottom.trees.back();
+    const int levels =
+        static_cast<long long>(mesh.triangles.size()) >= k_open_min_triangles ? open_levels : 0;
+    bottom.open_nodes.emplace_back();
+    bottom.open_boxes.emplace_back();
+    open_tree(tree, binary.bounds, tree.nodes.empty() ? 0 : levels, bottom.open_nodes.back(),
+              bottom.open_boxes.back());
     bottom.bytes += double(tree.nodes.size() * sizeof(tree.nodes[0]) +
                            tree.triangles.size() * sizeof(tree.triangles[0]));
   }
@@ -119,10 +172,15 @@ Forest make_forest(const ch04::Mesh& tree, int count, unsigned seed, double spee
   scene.placements.push_back({AffineD{}, 1});
   scene.albedo.push_back({0.55f, 0.5f, 0.45f});
 
+  // The camera stands over one corner, three trees high, and looks along the diagonal about
+  // 20 degrees down: rows of trees from the front of the picture to the horizon.
   ch03::CameraSpec camera;
   const double height = box.hi.y - box.lo.y;
-  camera.eye = {-0.55 * extent, 0.25 * extent + 2.0 * height, -0.55 * extent};
-  camera.target = {0.1 * extent, 0.0, 0.1 * extent};
+  const double eye_height = 3.0 * height,
+               ahead = eye_height / std::tan(20.0 * std::numbers::pi / 180.0);
+  const double corner = -0.5 * extent;
+  camera.eye = {corner, eye_height, corner};
+  camera.target = {corner + ahead / std::sqrt(2.0), 0.0, corner + ahead / std::sqrt(2.0)};
   camera.up = {0.0, 1.0, 0.0};
   camera.fov_degrees = 50.0;
   scene.camera = camera;

@@ -41,14 +41,30 @@ inline constexpr long long k_max_instances = 1LL << 24;
 // each made into an Instance. Throws InputError, one line, for the first one that fails.
 std::vector<Instance> make_instances(const InstanceScene& scene);
 
-// The bottom level: each mesh's tree and its box in its own space.
+// [listing:open_instances]
+// Instances whose boxes overlap make a ray test every one of them. An instance of a large mesh
+// is therefore opened: instead of one top-level leaf with the mesh's whole box, it gets one
+// leaf per subtree a few levels down the mesh's tree, each with that subtree's box, much
+// tighter once turned (the top level then separates the parts of neighbouring instances, as a
+// tree over the flattened scene would). A node is opened only where all its children are
+// subtrees (no triangles of its own), so the subtrees cover the mesh. Meshes of fewer than
+// k_open_min_triangles triangles are not opened: their whole tree is a few nodes.
+inline constexpr int k_open_min_triangles = 4096;
+inline constexpr int k_max_open_levels = 3;
+// [/listing:open_instances]
+
+// The bottom level: each mesh's tree, its box in its own space, and the subtrees an instance
+// of it is opened into (their root nodes and boxes; the root alone when it is not opened).
 struct BottomLevel {
   std::vector<ch09::Wide4PackedBvh> trees;
   std::vector<Aabb> object_boxes;
+  std::vector<std::vector<int>> open_nodes;
+  std::vector<std::vector<Aabb>> open_boxes;
   double build_ms = 0.0; // all meshes, on the host
   double bytes = 0.0;    // the trees' nodes and triangle records
 };
-BottomLevel build_bottom_level(const std::vector<ch04::Mesh>& meshes);
+// `open_levels`: how many levels instances of large meshes are opened (0: never).
+BottomLevel build_bottom_level(const std::vector<ch04::Mesh>& meshes, int open_levels = 2);
 
 // [listing:world_box]
 // An instance's box in the world: the eight corners of its mesh's box taken through the

@@ -2,6 +2,7 @@
 #include "instancing_program.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include "camera_cli.h"
 #include "collapse.h"
 #include "obj_loader.h"
+#include "program.h"
 #include "ray_io.h"
 #include "rt/backend_array.h"
 #include "rt/backend_image.h"
@@ -235,7 +237,7 @@ InstanceScene make_scene(const InstancingOptions& options, std::vector<Spin>& sp
 int run_instancing(const InstancingOptions& options, Backend backend) {
   std::vector<Spin> spins;
   const InstanceScene scene = make_scene(options, spins);
-  const BottomLevel bottom = build_bottom_level(scene.meshes);
+  const BottomLevel bottom = build_bottom_level(scene.meshes, options.open_levels);
   TwoLevelScene two_level(backend, scene, bottom, spins);
   if (!options.rays_path.empty()) return run_rays(options, scene, two_level);
 
@@ -255,7 +257,10 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
                                "packed), where it fits",
                                backend);
   report.add_context("scene", scene.description);
-  report.add_context("instances", group_digits(long(scene.placements.size())));
+  report.add_context("instances", group_digits(long(scene.placements.size())) + ", as " +
+                                      group_digits(two_level.entry_count()) +
+                                      " top-level entries (--open " +
+                                      std::to_string(options.open_levels) + ")");
   long long stored = 0;
   for (const ch04::Mesh& mesh : scene.meshes)
     stored += static_cast<long long>(mesh.triangles.size());
@@ -263,110 +268,134 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
                      group_digits(stored) + " / " + group_digits(placed));
   report.add_context("image", to_string(extent));
   report.add_context("memory", "bottom level " +
-                                   format_fixed(two_level.bottom_bytes() / 1e6, 1) +
+                                   format_fixed(two_level.bottom_bytes() / 1e6, 2) +
                                    " MB, top level and instances " +
-                                   format_fixed(two_level.top_bytes() / 1e6, 1) + " MB");
-  const int frames = options.common.frames;
-  const double pixels = double(extent.pixel_count());
+                                   format_fixed(two_level.top_bytes() / 1e6, 2) + " MB");
+  const auto window_start = std::chrono::steady_clock::now();
+  const auto measure = [&](Report& rows) {
+    const int frames = options.common.frames;
+    const double pixels = double(extent.pixel_count());
 
-  // The top level, built again over the same boxes.
-  const Timing top = time_on(
-      backend, [&] { two_level.build_top(); }, frames);
-  report.add_row({"top-level build (LBVH over instance boxes)",
+    // The top level, built again over the same boxes.
+    const Timing top = time_on(
+        backend, [&] { two_level.build_top(); }, frames);
+    rows.add_row({"top-level build (LBVH over instance boxes)",
                   to_string(backend),
                   top.median_ms,
-                  double(scene.placements.size()) / top.median_ms / 1e3,
-                  group_digits(long(scene.placements.size())) + " instances (M instances/s)",
-                  {{"instances", double(scene.placements.size())}}});
+                  double(two_level.entry_count()) / top.median_ms / 1e3,
+                  group_digits(two_level.entry_count()) + " entries (M entries/s)",
+                  {{"entries", double(two_level.entry_count())}}});
 
-  // The shaded image: primary rays and shadow rays.
-  BackendArray<Rgba8> d_pixels(backend, static_cast<std::size_t>(extent.pixel_count()));
-  const Timing shaded = time_on(
-      backend, [&] { render_shaded(two_level, camera, extent, d_pixels.data()); }, frames);
-  report.add_row({"shaded frame: primary + shadow rays",
+    // The shaded image: primary rays and shadow rays.
+    BackendArray<Rgba8> d_pixels(backend, static_cast<std::size_t>(extent.pixel_count()));
+    const Timing shaded = time_on(
+        backend, [&] { render_shaded(two_level, camera, extent, d_pixels.data()); }, frames);
+    rows.add_row({"shaded frame: primary + shadow rays",
                   to_string(backend),
                   shaded.median_ms,
                   pixels / shaded.median_ms / 1e3,
                   format_fixed(1000.0 / shaded.median_ms, 1) + " fps (Mpixels/s)",
                   {{"fps", 1000.0 / shaded.median_ms}}});
 
-  // The moving frame: every tree turned, the top level rebuilt, the frame shaded.
-  if (!spins.empty()) {
-    double seconds = 0.0;
-    const Timing moving = time_on(
-        backend,
-        [&] {
-          seconds += 1.0 / 60.0;
-          two_level.move(seconds);
-          render_shaded(two_level, camera, extent, d_pixels.data());
-        },
-        frames);
-    report.add_row({"moving frame: instances moved, top level rebuilt, shaded",
+    // The moving frame: every tree turned, the top level rebuilt, the frame shaded.
+    if (!spins.empty()) {
+      double seconds = 0.0;
+      const Timing moving = time_on(
+          backend,
+          [&] {
+            seconds += 1.0 / 60.0;
+            two_level.move(seconds);
+            render_shaded(two_level, camera, extent, d_pixels.data());
+          },
+          frames);
+      rows.add_row({"moving frame: instances moved, top level rebuilt, shaded",
                     to_string(backend),
                     moving.median_ms,
                     pixels / moving.median_ms / 1e3,
                     format_fixed(1000.0 / moving.median_ms, 1) + " fps (Mpixels/s)",
                     {{"fps", 1000.0 / moving.median_ms}}});
-    two_level.move(0.0); // back to the still scene for the rays below
-  }
+      two_level.move(0.0); // back to the still scene for the rays below
+    }
 
-  // Primary and diffuse rays, against the flattened scene where it fits.
-  const std::vector<RayF> primary = camera_rays(camera, extent);
-  const Traced primary_hits = trace_timed(two_level, Query::closest, primary, frames);
-  const std::vector<Instance> instances = make_instances(scene);
-  const std::vector<RayF> diffuse = diffuse_rays(scene, instances, primary, primary_hits.hits);
-  const Traced diffuse_hits = trace_timed(two_level, Query::closest, diffuse, frames);
-  const bool flatten_fits = placed <= options.flat_limit;
-  std::optional<Flattened> flat;
-  std::optional<ch09::Wide4PackedBvh> flat_tree;
-  if (flatten_fits) {
-    flat = flatten(scene);
-    flat_tree = ch09::pack_wide<4, ch09::PackedTriangles>(
-        ch09::build_wide_layout(flat->mesh, 4, ch09::Collapse::sah));
-    report.add_context(
-        "flattened",
-        group_digits(placed) + " triangles in one tree of " +
-            format_fixed(double(flat_tree->nodes.size() * sizeof(flat_tree->nodes[0]) +
-                                flat_tree->triangles.size() * sizeof(flat_tree->triangles[0])) /
-                             1e6,
-                         1) +
-            " MB");
-  } else {
-    report.add_context("flattened", "not compared: " + group_digits(placed) +
+    // Primary and diffuse rays, against the flattened scene where it fits.
+    const std::vector<RayF> primary = camera_rays(camera, extent);
+    const Traced primary_hits = trace_timed(two_level, Query::closest, primary, frames);
+    const std::vector<Instance> instances = make_instances(scene);
+    const std::vector<RayF> diffuse =
+        diffuse_rays(scene, instances, primary, primary_hits.hits);
+    const Traced diffuse_hits = trace_timed(two_level, Query::closest, diffuse, frames);
+    const bool flatten_fits = placed <= options.flat_limit;
+    std::optional<Flattened> flat;
+    std::optional<ch09::Wide4PackedBvh> flat_tree;
+    if (flatten_fits) {
+      flat = flatten(scene);
+      flat_tree = ch09::pack_wide<4, ch09::PackedTriangles>(
+          ch09::build_wide_layout(flat->mesh, 4, ch09::Collapse::sah));
+      rows.add_context(
+          "flattened",
+          group_digits(placed) + " triangles in one tree of " +
+              format_fixed(
+                  double(flat_tree->nodes.size() * sizeof(flat_tree->nodes[0]) +
+                         flat_tree->triangles.size() * sizeof(flat_tree->triangles[0])) /
+                      1e6,
+                  1) +
+              " MB");
+    } else {
+      rows.add_context("flattened", "not compared: " + group_digits(placed) +
                                         " triangles as placed, above --flat-limit " +
                                         group_digits(options.flat_limit));
-  }
-  const auto ray_rows = [&](const std::string& kind, std::span<const RayF> rays,
-                            const Traced& two) {
-    std::string error = "no flattened tree to compare with";
-    std::vector<std::pair<std::string, double>> metrics;
-    if (flat) {
-      const FlatTraced one = trace_flat(backend, *flat_tree, Query::closest, rays, frames);
-      const Agreement a = compare_hits(two.hits, one.hits, flat->first_triangle);
-      error = agreement_text(a, long(rays.size()));
-      metrics = {
-          {"same", double(a.same)}, {"near", double(a.near)}, {"differ", double(a.differ)}};
-      report.add_row({kind + " rays, flattened (one tree)",
+    }
+    const auto ray_rows = [&](const std::string& kind, std::span<const RayF> rays,
+                              const Traced& two) {
+      std::string error = "no flattened tree to compare with";
+      std::vector<std::pair<std::string, double>> metrics;
+      if (flat) {
+        const FlatTraced one = trace_flat(backend, *flat_tree, Query::closest, rays, frames);
+        const Agreement a = compare_hits(two.hits, one.hits, flat->first_triangle);
+        error = agreement_text(a, long(rays.size()));
+        metrics = {
+            {"same", double(a.same)}, {"near", double(a.near)}, {"differ", double(a.differ)}};
+        rows.add_row({kind + " rays, flattened (one tree)",
                       to_string(backend),
                       one.timing.median_ms,
                       double(rays.size()) / one.timing.median_ms / 1e3,
                       "the reference",
                       {}});
-    }
-    report.add_row({kind + " rays, two levels", to_string(backend), two.timing.median_ms,
+      }
+      rows.add_row({kind + " rays, two levels", to_string(backend), two.timing.median_ms,
                     double(rays.size()) / two.timing.median_ms / 1e3, error, metrics});
+    };
+    ray_rows("primary", primary, primary_hits);
+    ray_rows("diffuse", diffuse, diffuse_hits);
   };
-  ray_rows("primary", primary, primary_hits);
-  ray_rows("diffuse", diffuse, diffuse_hits);
-
-  if (!options.common.output.empty()) {
-    const Image image = render_into_image(backend, extent, [&](Rgba8* pixels) {
-      render_shaded(two_level, camera, extent, pixels);
-    });
-    write_output_image(options.common.output, image);
-  }
-  finish_report(report, options.common);
-  return 0;
+  ch03::ProgramParts parts{
+      .chapter = "ch13",
+      .window_title = "instancing",
+      .camera = spec,
+      // The window's frames: the forest turning (--spin) as the seconds pass on screen.
+      .render =
+          [&](Backend, const ch03::CameraSpec& view, Extent size, Rgba8* pixels) {
+            if (options.spin != 0.0 && !spins.empty())
+              two_level.move(
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - window_start)
+                      .count());
+            render_shaded(two_level, ch03::make_camera<float>(view, size), size, pixels);
+          },
+      .window_row =
+          [&](const ch03::WindowResult& shown) {
+            return ch03::window_fps_row("shaded frame: primary + shadow rays", backend, shown);
+          },
+      .measure = [&](Report& rows) { measure(rows); },
+      // The headless picture: the scene still, at time 0.
+      .image =
+          [&] {
+            two_level.move(0.0);
+            return render_into_image(backend, extent, [&](Rgba8* pixels) {
+              render_shaded(two_level, camera, extent, pixels);
+            });
+          },
+  };
+  return ch03::run_window_or_headless(options, backend, parts, report);
 }
 
 } // namespace rt::ch13

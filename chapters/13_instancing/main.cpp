@@ -12,6 +12,7 @@
 //                             instance by instance, as the flattened scene numbers them
 #include <iostream>
 
+#include "instance_scene.h"
 #include "instancing_program.h"
 #include "ray_io.h"
 #include "rt/cli.h"
@@ -42,6 +43,12 @@ int main(int argc, char** argv) {
       ->check(finite_range(-100.0, 100.0))
       ->capture_default_str();
   app.add_option("--seed", options.seed, "The forest's layout")->capture_default_str();
+  app.add_option("--open", options.open_levels,
+                 "Levels an instance of a mesh of " + std::to_string(k_open_min_triangles) +
+                     " triangles or more is opened into subtrees in the top level (0: one "
+                     "entry per instance)")
+      ->check(CLI::Range(0, k_max_open_levels))
+      ->capture_default_str();
   app.add_option("--flat-limit", options.flat_limit,
                  "Flatten the scene into one tree for comparison up to this many triangles")
       ->check(CLI::Range(0, 1 << 28))

@@ -18,11 +18,20 @@ using ch07::Query;
 using BottomView = ch09::Wide4PackedBvh::View;
 
 // [listing:two_level_view]
+// A top-level leaf: an instance, and the node of its mesh's tree the walk below starts from:
+// the root (0), or, where the instance is opened (instance_scene.h), the root of one of the
+// subtrees that cover the mesh.
+struct TopEntry {
+  int instance;
+  int node;
+};
+
 // What the walk reads (host pointers on the CPU, device pointers on the GPU).
 struct TwoLevelView {
   const ch07::BvhNode* top_nodes = nullptr; // top_node_count nodes; node 0 is the root
-  const int* top_leaf_ids = nullptr; // leaf slot k of the top level holds instance ids[k]
-  int top_node_count = 0;            // 0: no instances
+  const int* top_leaf_ids = nullptr;        // leaf slot k of the top level holds entry ids[k]
+  int top_node_count = 0;                   // 0: no instances
+  const TopEntry* entries = nullptr;
   const Instance* instances = nullptr;
   const BottomView* meshes = nullptr; // each mesh's bottom-level tree, by Instance::mesh
 };
@@ -42,19 +51,20 @@ struct NoTwoLevelCounters {
 };
 
 // [listing:visit_instance]
-// A top-level leaf: the ray, in the instance's space, through the mesh's tree with the
-// nearest hit so far as its tmax, so that only a nearer hit comes back. True when an any-hit
-// query is answered.
+// A top-level leaf: the ray, in the instance's space, through the mesh's tree from the entry's
+// node, with the nearest hit so far as its tmax, so that only a nearer hit comes back. True
+// when an any-hit query is answered.
 template <Query kQuery, class C>
-RT_HD bool visit_instance(const TwoLevelView& scene, int id, unsigned mask, RayF& ray,
+RT_HD bool visit_instance(const TwoLevelView& scene, int entry, unsigned mask, RayF& ray,
                           InstanceHit& hit, C& counters) {
-  const Instance& instance = scene.instances[id];
+  const TopEntry e = scene.entries[entry];
+  const Instance& instance = scene.instances[e.instance];
   if ((instance.mask & mask) == 0) return false;
   counters.instance();
   const ch07::TraceHit h = ch09::trace_wide<kQuery>(
-      scene.meshes[instance.mesh], to_object_space(instance, ray), counters.bottom);
+      scene.meshes[instance.mesh], to_object_space(instance, ray), counters.bottom, e.node);
   if (h.triangle < 0) return false;
-  hit = {h.t, id, h.triangle, h.u, h.v};
+  hit = {h.t, e.instance, h.triangle, h.u, h.v};
   ray.tmax = h.t;
   return kQuery == Query::any;
 }

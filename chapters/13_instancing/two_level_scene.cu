@@ -17,19 +17,28 @@ namespace {
 
 // [listing:move_instances]
 // One frame of the moving scene, an instance per item: its transform made again from its spin
-// for the frame's time (in double), both directions rounded to float, and its world box.
+// for the frame's time (in double), both directions rounded to float, and the double one kept
+// for the boxes of its entries...
 struct MoveInstances {
   const Spin* spins;
-  const int* mesh_of;
-  const Aabb* object_boxes;
   double seconds;
   Instance* instances;
-  Aabb* boxes;
+  AffineD* to_world;
   RT_HD void operator()(int k) const {
-    const AffineD to_world = spin_transform(spins[k], seconds);
-    const int mesh = mesh_of[k];
-    instances[k] = placed_instance(to_world, mesh, instances[k].mask);
-    boxes[k] = world_box(object_boxes[mesh], to_world);
+    const AffineD placed = spin_transform(spins[k], seconds);
+    to_world[k] = placed;
+    instances[k] = placed_instance(placed, instances[k].mesh, instances[k].mask);
+  }
+};
+
+// ... then an entry per item: its subtree's box taken to the world by its instance.
+struct BoxEntries {
+  const TopEntry* entries;
+  const Aabb* object_boxes; // of each entry's subtree, in its mesh's space
+  const AffineD* to_world;
+  Aabb* boxes;
+  RT_HD void operator()(int e) const {
+    boxes[e] = world_box(object_boxes[e], to_world[entries[e].instance]);
   }
 };
 // [/listing:move_instances]
@@ -81,23 +90,24 @@ struct ShadePixels {
 
 struct TwoLevelScene::Arrays {
   Backend backend;
-  int instance_count;
+  int instance_count, entry_count;
   std::vector<BackendArray<ch09::WideNode<4>>> bottom_nodes;
   std::vector<BackendArray<ch09::PackedTriangles::Record>> bottom_triangles;
   std::vector<BackendArray<Vec3f>> vertices;
   std::vector<BackendArray<ch04::IndexedTriangle>> triangles;
   BackendArray<BottomView> bottom_views;
   BackendArray<ch04::MeshView> mesh_views;
-  BackendArray<Aabb> object_boxes;
   BackendArray<Instance> instances;
-  BackendArray<Aabb> boxes;
+  BackendArray<AffineD> to_world;
+  BackendArray<TopEntry> entries;
+  BackendArray<Aabb> entry_object_boxes, boxes;
   BackendArray<Vec3f> albedo;
   BackendArray<Spin> spins;
-  BackendArray<int> mesh_of;
   ch10::LbvhOverBoxes top;
   double bottom_bytes = 0.0;
 
-  Arrays(Backend b, int count) : backend(b), instance_count(count), top(b, count) {}
+  Arrays(Backend b, int instances, int entries)
+      : backend(b), instance_count(instances), entry_count(entries), top(b, entries) {}
 };
 
 TwoLevelScene::TwoLevelScene(Backend backend, const InstanceScene& scene,
@@ -105,8 +115,25 @@ TwoLevelScene::TwoLevelScene(Backend backend, const InstanceScene& scene,
   const std::vector<Instance> instances = make_instances(scene);
   if (instances.empty()) throw InputError("a scene of instances needs at least one instance");
   if (spins.size() > instances.size()) throw InputError("more spins than instances");
-  const int count = static_cast<int>(instances.size());
-  arrays_ = std::make_unique<Arrays>(backend, count);
+  // The top level's entries: each instance's subtrees (its mesh's root where not opened).
+  std::vector<TopEntry> entries;
+  std::vector<Aabb> object_boxes, boxes;
+  std::vector<AffineD> to_world;
+  for (std::size_t k = 0; k < scene.placements.size(); ++k) {
+    const Placement& p = scene.placements[k];
+    to_world.push_back(p.to_world);
+    const std::vector<int>& nodes = bottom.open_nodes.at(p.mesh);
+    for (std::size_t e = 0; e < nodes.size(); ++e) {
+      entries.push_back({static_cast<int>(k), nodes[e]});
+      object_boxes.push_back(bottom.open_boxes[p.mesh][e]);
+      boxes.push_back(world_box(object_boxes.back(), p.to_world));
+    }
+  }
+  if (entries.size() > static_cast<std::size_t>(k_max_instances))
+    throw InputError(std::to_string(entries.size()) + " top-level entries: at most " +
+                     std::to_string(k_max_instances) + " (open fewer levels)");
+  arrays_ = std::make_unique<Arrays>(backend, static_cast<int>(instances.size()),
+                                     static_cast<int>(entries.size()));
   Arrays& a = *arrays_;
   std::vector<BottomView> views;
   std::vector<ch04::MeshView> meshes;
@@ -128,16 +155,11 @@ TwoLevelScene::TwoLevelScene(Backend backend, const InstanceScene& scene,
   }
   a.bottom_views = BackendArray<BottomView>(backend, std::span<const BottomView>(views));
   a.mesh_views = BackendArray<ch04::MeshView>(backend, std::span<const ch04::MeshView>(meshes));
-  a.object_boxes = BackendArray<Aabb>(backend, std::span(bottom.object_boxes));
   a.instances = BackendArray<Instance>(backend, std::span<const Instance>(instances));
-  std::vector<Aabb> boxes;
-  std::vector<int> mesh_of;
-  for (const Placement& p : scene.placements) {
-    boxes.push_back(world_box(bottom.object_boxes.at(p.mesh), p.to_world));
-    mesh_of.push_back(p.mesh);
-  }
+  a.to_world = BackendArray<AffineD>(backend, std::span<const AffineD>(to_world));
+  a.entries = BackendArray<TopEntry>(backend, std::span<const TopEntry>(entries));
+  a.entry_object_boxes = BackendArray<Aabb>(backend, std::span<const Aabb>(object_boxes));
   a.boxes = BackendArray<Aabb>(backend, std::span<const Aabb>(boxes));
-  a.mesh_of = BackendArray<int>(backend, std::span<const int>(mesh_of));
   std::vector<Vec3f> albedo = scene.albedo;
   albedo.resize(instances.size(), Vec3f{0.7f, 0.7f, 0.7f});
   a.albedo = BackendArray<Vec3f>(backend, std::span<const Vec3f>(albedo));
@@ -152,8 +174,8 @@ int TwoLevelScene::instance_count() const { return arrays_->instance_count; }
 
 TwoLevelView TwoLevelScene::view() const {
   const Arrays& a = *arrays_;
-  return {a.top.nodes(), a.top.leaf_ids(), a.top.node_count(), a.instances.data(),
-          a.bottom_views.data()};
+  return {a.top.nodes(),    a.top.leaf_ids(),   a.top.node_count(),
+          a.entries.data(), a.instances.data(), a.bottom_views.data()};
 }
 
 ShadeView TwoLevelScene::shade_view() const {
@@ -161,23 +183,30 @@ ShadeView TwoLevelScene::shade_view() const {
 }
 
 void TwoLevelScene::build_top() {
-  arrays_->top.build(arrays_->boxes.data(), arrays_->instance_count);
+  arrays_->top.build(arrays_->boxes.data(), arrays_->entry_count);
 }
 
 void TwoLevelScene::move(double seconds) {
   Arrays& a = *arrays_;
   const int spinning = static_cast<int>(a.spins.size());
-  if (spinning > 0)
-    for_each_index(a.backend, spinning,
-                   MoveInstances{a.spins.data(), a.mesh_of.data(), a.object_boxes.data(),
-                                 seconds, a.instances.data(), a.boxes.data()});
+  if (spinning > 0) {
+    for_each_index(
+        a.backend, spinning,
+        MoveInstances{a.spins.data(), seconds, a.instances.data(), a.to_world.data()});
+    for_each_index(a.backend, a.entry_count,
+                   BoxEntries{a.entries.data(), a.entry_object_boxes.data(), a.to_world.data(),
+                              a.boxes.data()});
+  }
   build_top();
 }
+
+int TwoLevelScene::entry_count() const { return arrays_->entry_count; }
 
 double TwoLevelScene::bottom_bytes() const { return arrays_->bottom_bytes; }
 double TwoLevelScene::top_bytes() const {
   const Arrays& a = *arrays_;
-  return double(a.instance_count) * (sizeof(Instance) + sizeof(Aabb) + sizeof(int)) +
+  return double(a.instance_count) * (sizeof(Instance) + sizeof(AffineD)) +
+         double(a.entry_count) * (sizeof(TopEntry) + 2 * sizeof(Aabb) + sizeof(int)) +
          double(a.top.node_count()) * sizeof(BvhNode);
 }
 

@@ -37,6 +37,7 @@ public:
 
   Backend backend() const;
   int instance_count() const;
+  int entry_count() const; // the top level's leaves: instances, opened into subtrees
   TwoLevelView view() const;
   ShadeView shade_view() const;
   // The top level built again over the instances' current boxes: queued on the GPU.
