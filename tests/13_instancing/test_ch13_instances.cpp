@@ -29,6 +29,7 @@
 #include "supported_range.h"
 #include "triangles.h"
 #include "two_level_scene.h"
+#include "wide_traverse.h"
 
 using namespace rt;
 using namespace rt::ch13;
@@ -286,6 +287,56 @@ TEST_CASE("an instance's world box holds every vertex of its mesh as placed",
     }
   }
   CHECK(vertices > 100000);
+}
+
+TEST_CASE("a ray whose copy in the instance's space hits the mesh enters the world box",
+          "[ch13][world-box]") {
+  // world_box's widening is there for this: the top level must never cull a hit that the
+  // ray, moved to the instance's space in float, would find (a box of the eight corners rounded
+  // to nearest, not widened, misses about 3% of these hits). The hardest rays graze the box:
+  // a cube's faces lie on its box, so rays at the cube's edges, from near and from 1e3 and 1e5
+  // times its size away, where the ray's move rounds most.
+  std::mt19937 random(1316);
+  const std::vector<ch04::Mesh> meshes = {ch04::make_box({-1, -1, -1}, {1, 1, 1}, 2),
+                                          ch04::make_icosphere(2, {0, 0, 0}, 1.0)};
+  long long object_hits = 0, culled = 0;
+  for (int c = 0; c < 48; ++c) {
+    InstanceScene scene;
+    scene.meshes = {meshes[c % 2]};
+    // Axis-aligned (a quarter turn keeps the faces on the box) or turned at random.
+    const Vec3d s{log_uniform(random, 1e-2, 1e2), log_uniform(random, 1e-2, 1e2),
+                  log_uniform(random, 1e-2, 1e2)};
+    const AffineD turn =
+        c % 3 == 0 ? rotation(random_unit_vector(random), 2.0) : rotation({0, 0, 1}, 0.0);
+    const AffineD a =
+        translation({c % 4 < 2 ? 0.5 : 1e4, -0.25, c % 4 < 2 ? 3.0 : -3e4}) * turn * scaling(s);
+    scene.placements = {{a, 0}};
+    const CpuScene cpu(scene);
+    const TwoLevelView view = cpu.scene.view();
+    const ch04::Mesh placed = flatten(scene).mesh;
+    const double size = std::max({s.x, s.y, s.z});
+    const double distance = c % 8 < 4 ? 3.0 : (c % 8 < 6 ? 1e3 : 1e5);
+    const Vec3d centre = a.point({0, 0, 0});
+    std::uniform_int_distribution<int> pick(0, int(placed.triangles.size()) - 1);
+    std::uniform_real_distribution<float> along(0.0f, 1.0f);
+    for (int i = 0; i < 4000; ++i) {
+      const ch04::IndexedTriangle t = placed.triangles[pick(random)];
+      const Vec3f p = placed.vertices[t.v0], q = placed.vertices[t.v1];
+      const Vec3f target = p + (q - p) * along(random);
+      const Vec3f origin =
+          (centre + random_unit_vector(random) * (distance * size)).as<float>();
+      const RayF ray{origin, target - origin};
+      const ch07::TraceHit object = ch09::trace_wide<Query::closest>(
+          view.meshes[0], to_object_space(view.instances[0], ray));
+      if (object.triangle < 0) continue;
+      ++object_hits;
+      const InstanceHit two = trace_instances<Query::closest>(view, ray);
+      culled += two.instance < 0 || !same_bits(two.t, object.t);
+    }
+  }
+  CAPTURE(object_hits, culled);
+  CHECK(object_hits > 100000);
+  CHECK(culled == 0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -661,6 +712,80 @@ TEST_CASE("a closed mesh split in two instances of one transform does not leak a
                 << open_leaks << ")");
     CHECK(leaks == 0);
     CHECK(open_leaks > 1000);
+  }
+}
+
+TEST_CASE(
+    "a tiny instance far from the origin: hit distances against the mesh placed in double",
+    "[ch13][precision]") {
+  // A sphere of radius 1e-3 (scale 1e-3) at distances 1 to 1e3 from the origin, where float's
+  // spacing grows to an eighth of its radius. The reference is the float ray (exact in double)
+  // against the object's triangles placed in double, not rounded. The flattened copy rounds
+  // every placed vertex once; the instance rounds the ray once into its space, and there
+  // to_object's translation column (about |position| / scale) cancels against the rotated
+  // origin in float, an error of a few float ulps of |position| in the world: the same order
+  // as the flattened copy's, not below it. Both are held to one float ulp of |position|
+  // (median) and the instanced error to at most 4 times the flattened one; both are printed.
+  const ch04::Mesh object = ch04::make_icosphere(2, {0.0, 0.0, 0.0}, 1.0);
+  for (const double far : {1.0, 10.0, 100.0, 1000.0}) {
+    CAPTURE(far);
+    std::mt19937 random(1317);
+    InstanceScene scene;
+    scene.meshes = {object};
+    const AffineD a = translation({far, -0.5 * far, 0.3 * far}) * rotation({1, 2, 3}, 0.8) *
+                      scaling({1e-3, 1e-3, 1e-3});
+    scene.placements = {{a, 0}};
+    const CpuScene cpu(scene);
+    const ch04::Mesh flat = flatten(scene).mesh;
+    std::vector<ch04::TriangleD> exact;
+    for (const ch04::IndexedTriangle& t : object.triangles)
+      exact.push_back({a.point(object.vertices[t.v0].as<double>()),
+                       a.point(object.vertices[t.v1].as<double>()),
+                       a.point(object.vertices[t.v2].as<double>())});
+    const Vec3d centre = a.point({0.0, 0.0, 0.0});
+    std::vector<double> instanced_error, flat_error;
+    long long instanced_misses = 0, flat_misses = 0;
+    for (int i = 0; i < 3000; ++i) {
+      const Vec3f origin = (centre + random_unit_vector(random) * 5e-3).as<float>();
+      const Vec3f target = (centre + random_unit_vector(random) * 3e-4).as<float>();
+      if (origin == target) continue;
+      const RayF ray{origin, target - origin};
+      ch03::RayD reference_ray{origin.as<double>(), (target - origin).as<double>()};
+      bool reference_hit = false;
+      for (const ch04::TriangleD& t : exact) {
+        const ch04::TriangleHit<double> h = ch04::intersect_watertight(reference_ray, t);
+        if (h.hit) reference_ray.tmax = h.t, reference_hit = true;
+      }
+      if (!reference_hit) continue;
+      const double length = std::sqrt(dot(reference_ray.direction, reference_ray.direction));
+      const InstanceHit two = trace_instances<Query::closest>(cpu.scene.view(), ray);
+      const ch04::MeshHit one =
+          ch04::closest_hit(ch04::TriangleVariant::watertight, ch04::host_view(flat), ray);
+      if (two.instance < 0)
+        ++instanced_misses;
+      else
+        instanced_error.push_back(std::abs(two.t - reference_ray.tmax) * length);
+      if (one.triangle < 0)
+        ++flat_misses;
+      else
+        flat_error.push_back(std::abs(one.t - reference_ray.tmax) * length);
+    }
+    REQUIRE(instanced_error.size() > 1000);
+    REQUIRE(flat_error.size() > 1000);
+    std::sort(instanced_error.begin(), instanced_error.end());
+    std::sort(flat_error.begin(), flat_error.end());
+    const double instanced_median = instanced_error[instanced_error.size() / 2];
+    const double flat_median = flat_error[flat_error.size() / 2];
+    const double ulp = 0x1p-23 * (std::sqrt(dot(centre, centre)) + 1e-2);
+    WARN("radius 1e-3 at " << far << ": hit distance error, median, instanced "
+                           << instanced_median << " (" << instanced_misses
+                           << " misses), flattened " << flat_median << " (" << flat_misses
+                           << " misses)");
+    CHECK(instanced_misses == 0);
+    CHECK(flat_misses == 0);
+    CHECK(instanced_median <= ulp);
+    CHECK(flat_median <= ulp);
+    CHECK(instanced_median <= 4.0 * flat_median);
   }
 }
 
