@@ -133,14 +133,21 @@ RT_HD inline Instance placed_instance(const AffineD& to_world, int mesh, unsigne
 Instance make_instance(const AffineD& to_world, int mesh, unsigned mask,
                        const std::string& what);
 
-// The ray in the instance's own space: origin and direction through to_object, the interval
-// unchanged (the direction is not normalised, so t is the same on both rays).
+// [listing:to_object_space]
+// The ray in the instance's own space, the interval unchanged (the direction is not normalised,
+// so t is the same on both rays). The origin is moved by the instance's translation first and
+// then turned and scaled: o - T is exact where the origin lies near the instance (Sterbenz: a
+// shadow ray leaving a small instance far from the world's origin), where to_object.point(o)
+// would add two large numbers, L^-1 o and -L^-1 T, and keep only their rounding's difference.
 RT_HD inline RayF to_object_space(const Instance& instance, const RayF& ray) {
+  const Affine& w = instance.to_world;
   RayF local = ray;
-  local.origin = instance.to_object.point(ray.origin);
+  local.origin = instance.to_object.direction(
+      {ray.origin.x - w.m[0][3], ray.origin.y - w.m[1][3], ray.origin.z - w.m[2][3]});
   local.direction = instance.to_object.direction(ray.direction);
   return local;
 }
+// [/listing:to_object_space]
 
 // [listing:instance_hit]
 // The closest (or any) hit of a two-level trace: the instance, the triangle's number in that

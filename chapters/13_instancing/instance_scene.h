@@ -42,13 +42,14 @@ inline constexpr long long k_max_instances = 1LL << 24;
 std::vector<Instance> make_instances(const InstanceScene& scene);
 
 // [listing:open_instances]
-// Instances whose boxes overlap make a ray test every one of them. An instance of a large mesh
-// is therefore opened: instead of one top-level leaf with the mesh's whole box, it gets one
-// leaf per subtree a few levels down the mesh's tree, each with that subtree's box, much
-// tighter once turned (the top level then separates the parts of neighbouring instances, as a
-// tree over the flattened scene would). A node is opened only where all its children are
-// subtrees (no triangles of its own), so the subtrees cover the mesh. Meshes of fewer than
-// k_open_min_triangles triangles are not opened: their whole tree is a few nodes.
+// Instances whose boxes overlap make a ray enter every one of them. An instance of a large mesh
+// may therefore be opened (--open): instead of one top-level leaf with the mesh's whole box,
+// it gets one leaf per subtree a few levels down the mesh's tree, each with that subtree's
+// box, tighter once turned (Benthin et al. call this re-braiding). A node is opened only where
+// all its children are subtrees (no triangles of its own), so the subtrees cover the mesh.
+// Meshes of fewer than k_open_min_triangles triangles are not opened. Off by default: on an
+// H200 every level opened made the dragon forest slower (book 13's lab notes), since each
+// subtree entered moves the ray again and the top level over subtrees is deeper.
 inline constexpr int k_open_min_triangles = 4096;
 inline constexpr int k_max_open_levels = 3;
 // [/listing:open_instances]
@@ -64,7 +65,7 @@ struct BottomLevel {
   double bytes = 0.0;    // the trees' nodes and triangle records
 };
 // `open_levels`: how many levels instances of large meshes are opened (0: never).
-BottomLevel build_bottom_level(const std::vector<ch04::Mesh>& meshes, int open_levels = 2);
+BottomLevel build_bottom_level(const std::vector<ch04::Mesh>& meshes, int open_levels = 0);
 
 // [listing:world_box]
 // An instance's box in the world: the eight corners of its mesh's box taken through the

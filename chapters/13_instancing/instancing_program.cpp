@@ -185,6 +185,37 @@ std::string agreement_text(const Agreement& a, long long rays) {
          group_digits(a.near) + " another at the same t, " + group_digits(a.differ) + " differ";
 }
 
+// [listing:two_level_work]
+// What a ray costs, counted on the CPU over every `stride`-th ray: top-level nodes, instances
+// entered (each a move to its space and a walk of its mesh's tree) and the bottom-level nodes
+// and triangles of those walks. The GPU runs the same walk, so the counts explain its times.
+struct TwoLevelWork {
+  double top_nodes = 0, instances = 0, bottom_nodes = 0, triangles = 0;
+};
+TwoLevelWork count_work(const TwoLevelView& host_view, std::span<const RayF> rays, int stride) {
+  TwoLevelWork work;
+  long long counted = 0;
+  for (std::size_t i = 0; i < rays.size(); i += stride) {
+    TwoLevelCounters c;
+    trace_instances<Query::closest>(host_view, rays[i], 0xffffffffu, c);
+    work.top_nodes += double(c.top_nodes);
+    work.instances += double(c.instances);
+    work.bottom_nodes += double(c.bottom.nodes);
+    work.triangles += double(c.bottom.triangles);
+    ++counted;
+  }
+  const double n = double(std::max<long long>(1, counted));
+  return {work.top_nodes / n, work.instances / n, work.bottom_nodes / n, work.triangles / n};
+}
+// [/listing:two_level_work]
+
+std::string work_text(const TwoLevelWork& w) {
+  return "per ray: " + format_fixed(w.top_nodes, 1) + " top-level nodes, " +
+         format_fixed(w.instances, 2) + " instances entered, " +
+         format_fixed(w.bottom_nodes, 1) + " nodes and " + format_fixed(w.triangles, 1) +
+         " triangles below";
+}
+
 int run_rays(const InstancingOptions& options, const InstanceScene& scene,
              const TwoLevelScene& two_level) {
   long long total = 0;
@@ -345,16 +376,27 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
                                         " triangles as placed, above --flat-limit " +
                                         group_digits(options.flat_limit));
     }
+    // The same scene on the CPU for the counts (the GPU's arrays are not the host's).
+    std::optional<TwoLevelScene> counting;
+    if (backend != Backend::cpu) counting.emplace(Backend::cpu, scene, bottom);
+    const TwoLevelView host_view = counting ? counting->view() : two_level.view();
     const auto ray_rows = [&](const std::string& kind, std::span<const RayF> rays,
                               const Traced& two) {
+      const TwoLevelWork work =
+          count_work(host_view, rays, std::max<int>(1, int(rays.size() / 20000)));
       std::string error = "no flattened tree to compare with";
-      std::vector<std::pair<std::string, double>> metrics;
+      std::vector<std::pair<std::string, double>> metrics = {
+          {"top_nodes", work.top_nodes},
+          {"instances", work.instances},
+          {"bottom_nodes", work.bottom_nodes},
+          {"triangles", work.triangles}};
       if (flat) {
         const FlatTraced one = trace_flat(backend, *flat_tree, Query::closest, rays, frames);
         const Agreement a = compare_hits(two.hits, one.hits, flat->first_triangle);
         error = agreement_text(a, long(rays.size()));
-        metrics = {
-            {"same", double(a.same)}, {"near", double(a.near)}, {"differ", double(a.differ)}};
+        metrics.insert(
+            metrics.end(),
+            {{"same", double(a.same)}, {"near", double(a.near)}, {"differ", double(a.differ)}});
         rows.add_row({kind + " rays, flattened (one tree)",
                       to_string(backend),
                       one.timing.median_ms,
@@ -363,7 +405,8 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
                       {}});
       }
       rows.add_row({kind + " rays, two levels", to_string(backend), two.timing.median_ms,
-                    double(rays.size()) / two.timing.median_ms / 1e3, error, metrics});
+                    double(rays.size()) / two.timing.median_ms / 1e3,
+                    error + "; " + work_text(work), metrics});
     };
     ray_rows("primary", primary, primary_hits);
     ray_rows("diffuse", diffuse, diffuse_hits);

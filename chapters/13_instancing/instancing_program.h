@@ -16,7 +16,7 @@ struct InstancingOptions : ch03::ProgramOptions {
   bool small = false;          // --small: the trees are icospheres of 320 triangles
   double spin = 0.0;           // --spin: radians a second each tree turns (the moving frame's)
   unsigned seed = 1;           // --seed: the forest's layout
-  int open_levels = 2;         // --open: levels instances of large meshes are opened
+  int open_levels = 0;         // --open: levels instances of large meshes are opened
   int flat_limit = 16'000'000; // --flat-limit: flatten for comparison up to this many triangles
   std::string rays_path, hits_path; // --rays, --hits
 };
