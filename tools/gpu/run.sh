@@ -6,7 +6,7 @@
 #   tools/gpu/run.sh [LOGDIR]           (default LOGDIR: gpu-logs)
 #
 # RT_STEPS picks what runs after the build (default: all of them, in this order):
-#   tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 samplers bench12 sass profile
+#   tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 samplers bench12 bench13 sass profile
 # `models` renders the real models of RT_MODELS (default: models/, filled by tools/get-models.sh,
 # else .gpu-models, filled by tools/gpu/pack-models.sh) with chapters 05 and 06, headless and in
 # the window; `bench` runs chapter 07's benchmark protocol on them, `bench08` chapter 08's
@@ -16,9 +16,11 @@
 # 1920x1080 (its kernels, chapter 11's tracer on the same geometry, the texture filters and
 # reads) and its convergence report; `samplers` chapter 11's samplers (error against run time by
 # sampler on the room, Sponza and the conference room; each sampler's time per sample at
-# 1920x1080) and chapter 12's material room by sampler; `window11` opens chapter 11 in the
+# 1920x1080) and chapter 12's material room by sampler; `bench13` chapter 13's forests of
+# instances (10 000 dragons, a million spheres, 16 dragons against the flattened scene);
+# `window11` opens chapter 11 in the
 # window at 1920x1080 on Sponza and the conference room (its frame rate), and the moving scenes
-# of chapters 10 and 11. `sass` counts the
+# of chapters 10 and 11, and chapter 13's turning forest. `sass` counts the
 # load instructions of chapter 08's kernels in the machine code (cuobjdump); `profile` reads their
 # cache hit rates with Nsight Compute (ncu), where it runs.
 #
@@ -32,7 +34,7 @@ logdir="$(realpath -m "${1:-gpu-logs}")"
 mkdir -p "$logdir"
 source tools/env.sh
 status=0
-steps=" ${RT_STEPS:-tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 samplers bench12 sass profile} "
+steps=" ${RT_STEPS:-tests memcheck reports window window11 models bench bench08 bench09 bench10 bench11 samplers bench12 bench13 sass profile} "
 wanted() { [[ "$steps" == *" $1 "* ]]; }
 models="${RT_MODELS:-}"
 if [ -z "$models" ]; then
@@ -127,6 +129,7 @@ if wanted memcheck; then
     [ "$name" = ch11_path_tracing ] && extra=(--spp 2)
     [ "$name" = ch12_materials ] && extra=(--spp 2)
     [ "$name" = ch12_chi2_maps ] && continue # a CPU program
+    [ "$name" = ch13_instancing ] && extra=(--small --instances 400 --spin 1 --flat-limit 20000)
     step "memcheck_$name" compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$exe" --backend gpu --width 320 --height 181 --frames 2 "${extra[@]}" \
       --output "$logdir/$name-memcheck.png"
@@ -191,6 +194,12 @@ if wanted window11 && [ $have_x = 1 ] && [ -x build/native/bin/ch11_path_tracing
     step moving_ch11_dragon "$ch11" --backend gpu --moving --headless --frames 300 \
       --scene "$models/stanford-dragon.obj.gz" --width 1920 --height 1080 \
       --json "$logdir/window11/moving-ch11-dragon.json" --output "$logdir/ch11-moving-dragon.png"
+  fi
+  if [ -x build/native/bin/ch13_instancing ]; then # a turning forest of instances
+    step window_ch13_forest "${window_env[@]}" tools/window-test.sh --one "$logdir/window11" \
+      build/native/bin/ch13_instancing --window --backend gpu --small --instances 10000 --spin 1 \
+      --frames 300 --width 1920 --height 1080 --json "$logdir/window11/window-ch13-forest.json" \
+      --output "$logdir/window11/ch13-forest.png"
   fi
   grep -h -E "fps|frames|ms" "$logdir"/window_ch1*.log "$logdir"/moving_ch11*.log | head -60
 fi
@@ -260,6 +269,23 @@ if wanted bench12 && [ -x build/native/bin/ch12_materials ]; then
   step convergence_ch12_room "$ch12" --backend gpu --headless --convergence --width 320 \
     --height 240 --spp 1024 --reference-spp 16384 --json "$logdir/convergence_ch12_room.json"
   cat "$logdir"/bench_ch12_*.log
+fi
+if wanted bench13 && [ -x build/native/bin/ch13_instancing ]; then
+  ch13=build/native/bin/ch13_instancing
+  args=(--backend gpu --headless --width 1920 --height 1080)
+  if [ -f "$models/stanford-dragon.obj.gz" ]; then
+    # 10 000 dragons (8.7 billion triangles as placed), still and turning; 16 of them against
+    # the same scene flattened into one tree.
+    step bench_ch13_forest "$ch13" "${args[@]}" --scene "$models/stanford-dragon.obj.gz" \
+      --instances 10000 --spin 0.5 --flat-limit 0 --json "$logdir/bench_ch13_forest.json" \
+      --output "$logdir/ch13_forest.png"
+    step bench_ch13_flat "$ch13" "${args[@]}" --scene "$models/stanford-dragon.obj.gz" \
+      --instances 16 --flat-limit 20000000 --json "$logdir/bench_ch13_flat.json" --output ""
+  fi
+  # A million instances of a 320-triangle sphere: the top level's build.
+  step bench_ch13_million "$ch13" "${args[@]}" --small --instances 1000000 --spin 0.5 \
+    --flat-limit 0 --json "$logdir/bench_ch13_million.json" --output "$logdir/ch13_million.png"
+  cat "$logdir"/bench_ch13_*.log
 fi
 if wanted bench11 && [ -x build/native/bin/ch11_path_tracing ]; then
   ch11=build/native/bin/ch11_path_tracing
