@@ -216,8 +216,13 @@ std::string work_text(const TwoLevelWork& w) {
          " triangles below";
 }
 
-int run_rays(const InstancingOptions& options, const InstanceScene& scene,
-             const TwoLevelScene& two_level) {
+// [listing:flattened_ids]
+// Hits as a hit file holds them (chapter 07's format): each instance's triangles numbered after
+// those of the instances before it, the order in which flattening concatenates them (and
+// chapter 12's glTF loader meets them), so that the file can be checked against a flat tree.
+// An int32 id numbers at most 2^31 - 1 triangles as placed; a larger scene is refused.
+void write_flattened_hits(const InstanceScene& scene, std::span<const InstanceHit> traced,
+                          const std::string& path) {
   long long total = 0;
   std::vector<long long> first;
   for (const Placement& p : scene.placements) {
@@ -227,19 +232,16 @@ int run_rays(const InstancingOptions& options, const InstanceScene& scene,
   if (total > std::numeric_limits<int>::max())
     throw InputError("the scene has " + group_digits(total) +
                      " triangles as placed: a hit file's int32 triangle id cannot number them");
-  const std::vector<RayF> rays = ch07::read_ray_file(options.rays_path);
-  const Traced traced = trace_timed(two_level, Query::closest, rays, 1);
-  std::vector<ch04::MeshHit> hits(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    if (traced.hits[i].instance >= 0)
-      hits[i] = {traced.hits[i].t,
-                 static_cast<int>(first[traced.hits[i].instance] + traced.hits[i].triangle)};
-  ch07::write_hit_file(options.hits_path, hits);
-  std::cout << "wrote " << options.hits_path << " (" << group_digits(long(rays.size()))
+  std::vector<ch04::MeshHit> hits(traced.size());
+  for (std::size_t i = 0; i < traced.size(); ++i)
+    if (traced[i].instance >= 0)
+      hits[i] = {traced[i].t, static_cast<int>(first[traced[i].instance] + traced[i].triangle)};
+  ch07::write_hit_file(path, hits);
+  std::cout << "wrote " << path << " (" << group_digits(long(traced.size()))
             << " hits; triangles numbered instance by instance, " << group_digits(total)
             << " in all)\n";
-  return 0;
 }
+// [/listing:flattened_ids]
 
 } // namespace
 
@@ -270,7 +272,12 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
   const InstanceScene scene = make_scene(options, spins);
   const BottomLevel bottom = build_bottom_level(scene.meshes, options.open_levels);
   TwoLevelScene two_level(backend, scene, bottom, spins);
-  if (!options.rays_path.empty()) return run_rays(options, scene, two_level);
+  if (!options.rays_path.empty()) { // a ray file through both levels
+    const std::vector<RayF> rays = ch07::read_ray_file(options.rays_path);
+    write_flattened_hits(scene, trace_timed(two_level, Query::closest, rays, 1).hits,
+                         options.hits_path);
+    return 0;
+  }
 
   long long placed = 0;
   for (const Placement& p : scene.placements)
@@ -282,6 +289,20 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
   if (options.fov_given) spec.fov_degrees = options.camera.fov_degrees;
   ch03::validate_camera(spec);
   const ch03::Camera<float> camera = ch03::make_camera<float>(spec, extent);
+  if (!options.dump_hits_path
+           .empty()) { // the view's camera rays, or diffuse rays from their hits
+    const std::vector<RayF> primary = camera_rays(camera, extent);
+    const Traced primary_hits = trace_timed(two_level, Query::closest, primary, 1);
+    if (options.ray_type == "primary") {
+      write_flattened_hits(scene, primary_hits.hits, options.dump_hits_path);
+    } else {
+      const std::vector<RayF> diffuse =
+          diffuse_rays(scene, make_instances(scene), primary, primary_hits.hits);
+      write_flattened_hits(scene, trace_timed(two_level, Query::closest, diffuse, 1).hits,
+                           options.dump_hits_path);
+    }
+    return 0;
+  }
 
   Report report = start_report("Chapter 13: instancing, two-level trees", "Mrays/s",
                                "the same scene flattened into one tree (chapter 09's 4-wide "

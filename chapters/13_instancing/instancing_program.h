@@ -19,6 +19,8 @@ struct InstancingOptions : ch03::ProgramOptions {
   int open_levels = 0;         // --open: levels instances of large meshes are opened
   int flat_limit = 16'000'000; // --flat-limit: flatten for comparison up to this many triangles
   std::string rays_path, hits_path; // --rays, --hits
+  std::string dump_hits_path;       // --dump-hits: the view's hits
+  std::string ray_type = "primary"; // --ray-type: primary, or diffuse from the primary hits
 };
 
 // The scene the options describe: the glTF file's node graph, or a forest of the OBJ file's

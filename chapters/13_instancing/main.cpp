@@ -10,6 +10,7 @@
 //   --small              a forest of 320-triangle icospheres (a million instances and more)
 //   --rays FILE --hits FILE   a ray file through both levels; the hits' triangle ids count
 //                             instance by instance, as the flattened scene numbers them
+//   --dump-hits FILE [--ray-type primary|diffuse]   the view's hits, numbered the same way
 #include <iostream>
 
 #include "instance_scene.h"
@@ -57,9 +58,23 @@ int main(int argc, char** argv) {
                  "A ray file traced through both levels (" + ch07::describe_ray_file_limits() +
                      ")");
   app.add_option("--hits", options.hits_path, "With --rays: the hit file to write");
+  app.add_option(
+      "--dump-hits", options.dump_hits_path,
+      "The hits of the view's rays (--ray-type) to this hit file, triangles numbered "
+      "instance by instance");
+  app.add_option(
+         "--ray-type", options.ray_type,
+         "With --dump-hits: primary (the camera's rays) or diffuse (one cosine-weighted "
+         "ray from each primary hit)")
+      ->check(CLI::IsMember({"primary", "diffuse"}))
+      ->capture_default_str();
   return ch03::run_program_main(app, argc, argv, options, [&] {
     if (options.rays_path.empty() != options.hits_path.empty())
       throw UsageError("--rays and --hits go together");
+    if (!options.dump_hits_path.empty() && !options.rays_path.empty())
+      throw UsageError("--dump-hits traces the view's rays: not with --rays");
+    if (app.count("--ray-type") > 0 && options.dump_hits_path.empty())
+      throw UsageError("--ray-type goes with --dump-hits");
     if (options.small && !options.scene_path.empty())
       throw UsageError("--small makes its own trees: not with --scene");
     const Backend backend = resolve_backend(options.common.backend, std::cout);

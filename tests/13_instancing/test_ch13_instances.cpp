@@ -1027,6 +1027,52 @@ TEST_CASE("program: --rays and --hits number the hits as the flattened scene doe
   CHECK(same >= 0.999 * double(rays.size()));
 }
 
+TEST_CASE("program: --dump-hits writes the view's camera rays' hits, numbered as flattened",
+          "[ch13][program]") {
+  // The camera rays of the program's own view (the forest's camera, 40 x 30 pixels) traced in
+  // process through both levels: the dump is those hits, bit for bit, numbered instance by
+  // instance; and the diffuse dump has one record per primary hit.
+  InstancingOptions options;
+  options.instances = 6;
+  options.small = true;
+  std::vector<Spin> spins;
+  const InstanceScene scene = make_scene(options, spins);
+  const Flattened flat = flatten(scene);
+  const Extent extent{40, 30};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(*scene.camera, extent);
+  std::vector<RayF> rays;
+  for (int y = 0; y < extent.height; ++y)
+    for (int x = 0; x < extent.width; ++x) rays.push_back(camera.ray_through_pixel(x, y));
+  const CpuScene cpu(scene, spins);
+  const std::vector<InstanceHit> expected = trace_all(cpu.scene, Query::closest, rays);
+  const fs::path folder = rt::testing::temp_folder("rt_ch13");
+  const std::string primary_file = (folder / "view.hits").string();
+  const std::string diffuse_file = (folder / "diffuse.hits").string();
+  fs::remove(primary_file);
+  fs::remove(diffuse_file);
+  const rt::testing::ProgramRun run =
+      run_program("--instances 6 --small --width 40 --height 30 --dump-hits " + primary_file);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const std::vector<ch04::MeshHit> hits = ch07::read_hit_file(primary_file);
+  REQUIRE(hits.size() == rays.size());
+  long long hit_count = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(hits[i].triangle == flat_id(flat, expected[i]));
+    REQUIRE(same_bits(hits[i].t, expected[i].t));
+    hit_count += hits[i].triangle >= 0;
+  }
+  CHECK(hit_count > 100);
+  const rt::testing::ProgramRun diffuse_run =
+      run_program("--instances 6 --small --width 40 --height 30 --dump-hits " + diffuse_file +
+                  " --ray-type diffuse");
+  INFO(diffuse_run.output);
+  REQUIRE(diffuse_run.exit_code == 0);
+  CHECK(static_cast<long long>(ch07::read_hit_file(diffuse_file).size()) <= hit_count);
+  CHECK(static_cast<long long>(ch07::read_hit_file(diffuse_file).size()) > hit_count / 2);
+}
+
 TEST_CASE("program: bad input is refused with one line", "[ch13][program]") {
   const fs::path folder = rt::testing::temp_folder("rt_ch13");
   const std::string rays = (folder / "one.rays").string();
@@ -1038,6 +1084,8 @@ TEST_CASE("program: bad input is refused with one line", "[ch13][program]") {
       {"--rays " + rays, 2, "--rays and --hits go together"},
       {"--hits " + (folder / "h.hits").string(), 2, "--rays and --hits go together"},
       {"--small --scene x.obj", 2, "--small makes its own trees: not with --scene"},
+      {"--small --ray-type diffuse", 2, "--ray-type goes with --dump-hits"},
+      {"--small --ray-type sideways --dump-hits x.hits", 2, "--ray-type"},
       {"--scene " + (folder / "missing.obj").string(), 1, "missing.obj"},
       {"--scene " + (folder / "missing.gltf").string(), 1, "missing.gltf"},
       {"--small --rays " + (folder / "missing.rays").string() + " --hits " +
