@@ -351,33 +351,36 @@ FAR = np.array([100000.3, 100000.55, 99999.8])
 
 
 def origin_error(turns=3, eyes=2000):
-    """How far the camera ray's origin lands from exact when to_object moves it in float, as
-    Affine::point does (three products and three sums, each rounded to float, no fused
-    multiply-add), for the sphere of far_away() scaled by 10^-3 at FAR: eyes within about 0.05
-    of it, turned at random. Returns the median and the largest distance, in object units (the
-    sphere's radius is 1)."""
+    """The camera ray's origin moved into the space of far_away()'s sphere scaled by 10^-3 at
+    FAR, in float, as to_object_space does it: the instance's translation (stored in float)
+    subtracted first, then turned and scaled by to_object's linear part (three products and
+    two sums per row, each rounded, no fused multiply-add). Eyes within about 0.05 of the
+    sphere, random turns. Returns, in object units (the sphere's radius is 1), how far the
+    translation's rounding moves the whole sphere (the same for every ray), and the median and
+    largest distance of each moved origin from exact for the sphere so moved."""
     random = np.random.default_rng(13)
-    errors = []
+    shifts, errors = [], []
     for _ in range(turns):
         q = random.normal(size=4)
         a, b, c, d = q / np.linalg.norm(q)
         turn = np.array([[a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)],
                          [2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b)],
                          [2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d]])
-        inverse_linear = np.linalg.inv(1e-3 * turn)  # in double, then rounded once, as
-        inverse_shift = -inverse_linear @ FAR        # placed_instance does
-        m32, t32 = inverse_linear.astype(np.float32), inverse_shift.astype(np.float32)
+        inverse_linear = np.linalg.inv(1e-3 * turn)  # in double, rounded once, as
+        m32 = inverse_linear.astype(np.float32)       # placed_instance does
+        t32 = FAR.astype(np.float32)                  # to_world's translation, in float
+        shifts.append(float(np.linalg.norm(inverse_linear @ (t32.astype(np.float64) - FAR))))
         for _ in range(eyes):
             eye = (FAR + random.normal(size=3) * 0.05).astype(np.float32)
+            local = [np.float32(eye[k] - t32[k]) for k in range(3)]  # exact: Sterbenz
             moved = []
             for r in range(3):
-                s = np.float32(m32[r, 0] * eye[0])
-                s = np.float32(s + np.float32(m32[r, 1] * eye[1]))
-                s = np.float32(s + np.float32(m32[r, 2] * eye[2]))
-                moved.append(float(np.float32(s + t32[r])))
-            exact = inverse_linear @ eye.astype(np.float64) + inverse_shift
+                s = np.float32(m32[r, 0] * local[0])
+                s = np.float32(s + np.float32(m32[r, 1] * local[1]))
+                moved.append(float(np.float32(s + np.float32(m32[r, 2] * local[2]))))
+            exact = inverse_linear @ (eye.astype(np.float64) - t32.astype(np.float64))
             errors.append(float(np.linalg.norm(np.array(moved) - exact)))
-    return float(np.median(errors)), max(errors)
+    return max(shifts), float(np.median(errors)), max(errors)
 
 
 def far_away(out):
@@ -386,7 +389,7 @@ def far_away(out):
     float32, as flatten() does) for r = 0.05, 0.01 and 0.001, seen along z, with the float
     grid around FAR and the exact sphere's outline (dashed)."""
     unit, faces = icosphere(2)
-    median, largest = origin_error()
+    shift, median, largest = origin_error()
     ulp = float(np.spacing(np.float32(FAR[0])))
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.6))
     front = [f for f in faces if unit[list(f)].mean(axis=0)[2] > 0.0]  # the half facing us
@@ -438,10 +441,10 @@ def far_away(out):
              "places every vertex there and rounds it to that grid:\nat radius 0.05 the sphere "
              "is lumpy, at 0.01 a cross of five grid squares, at 0.001 (the smallest scale "
              "chapter 13 accepts) a handful of points. The instance keeps the first panel's "
-             "mesh;\nits camera rays' origin, moved there in float, lands a median "
-             f"{median:.1f} and at most {largest:.1f} of its radii from exact (2 000 eyes, 3 "
-             "turns), the same for every ray from one eye: the sphere moves, its shape stays.",
-             ha="center", fontsize=9, color=GREY)
+             "mesh;\nits translation, rounded to float, moves the whole sphere by at most "
+             f"{shift:.1f} radii, the same for every ray, and each ray's origin moved into its "
+             f"space lands a median {median:.1e} and at most {largest:.1e} radii from exact "
+             "(2 000 eyes, 3 turns).", ha="center", fontsize=9, color=GREY)
     save(fig, out / "13_far_away.svg")
     plt.close(fig)
 
