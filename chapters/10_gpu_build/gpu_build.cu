@@ -295,6 +295,7 @@ void LbvhOverBoxes::build(const Aabb* boxes, int count) {
 }
 const BvhNode* LbvhOverBoxes::nodes() const { return passes_->nodes.data(); }
 const int* LbvhOverBoxes::leaf_ids() const { return passes_->order.sorted_ids.data(); }
+const int* LbvhOverBoxes::parents() const { return passes_->parents.data(); }
 int LbvhOverBoxes::count() const { return passes_->count; }
 int LbvhOverBoxes::node_count() const {
   return passes_->count <= 1 ? passes_->count : passes_->count - 1;

@@ -84,8 +84,9 @@ public:
 
   const ch07::BvhNode* nodes() const; // backend pointer: node_count() nodes, root 0
   const int* leaf_ids() const;        // backend pointer: count() entries, slot k's box number
-  int node_count() const;             // count() - 1; 1 for a single box; 0 for none
-  int count() const;                  // the boxes of the last build
+  const int* parents() const; // backend pointer: each node's 2 * parent + slot; -1 at the root
+  int node_count() const;     // count() - 1; 1 for a single box; 0 for none
+  int count() const;          // the boxes of the last build
   int capacity() const;
   BoxTree to_host() const; // the last build's tree copied to the host (on the GPU, a wait)
 

@@ -28,8 +28,9 @@ constexpr int k_width = 4;
 struct CollapseView {
   const BvhNode* nodes;
   const int* parents;
-  const TriangleF* triangles; // in the binary tree's leaf order
+  const TriangleF* triangles; // in the binary tree's leaf order; null: ids alone (boxes)
   const int* triangle_ids;
+  int leaf_size;    // the most triangles a wide leaf takes: 1 to 3
   int* range_first; // the node's triangles are range_first .. range_end - 1
   int* range_end;
   int* is_wide;
@@ -65,7 +66,7 @@ RT_HD inline WideChild binary_child(const CollapseView& t, const BvhNode& node, 
   if (node.is_leaf(c)) return {node.box[c], -1, node.first[c], node.count[c]};
   const int x = node.first[c];
   const int first = t.range_first[x], count = t.range_end[x] - first;
-  interior = count > k_wide_leaf_triangles;
+  interior = count > t.leaf_size;
   return {node.box[c], interior ? x : -1, first, count};
 }
 
@@ -135,7 +136,7 @@ struct MeasureNodes {
     t.range_end[i] = t.nodes[right].first[1] + t.nodes[right].count[1];
     int depth = 0;
     for (int x = i; x != 0; x = t.parents[x] >> 1) ++depth;
-    t.is_wide[i] = depth % 2 == 0 && t.range_end[i] - t.range_first[i] > k_wide_leaf_triangles;
+    t.is_wide[i] = depth % 2 == 0 && t.range_end[i] - t.range_first[i] > t.leaf_size;
   }
 };
 
@@ -197,7 +198,8 @@ struct WriteWideNodes {
       for (int k = 0; k < child.count; ++k, ++offset)
         ch09::PackedTriangles::write(
             t.out_records + ch09::PackedTriangles::k_records * (node.triangle_base + offset),
-            t.triangles[child.first + k], t.triangle_ids[child.first + k]);
+            t.triangles != nullptr ? t.triangles[child.first + k] : TriangleF{},
+            t.triangle_ids[child.first + k]);
     });
     t.out_nodes[t.wide_index[i]] = node;
   }
@@ -221,9 +223,9 @@ std::size_t scan_scratch_bytes(int n) {
   return std::max<std::size_t>(bytes, 1);
 }
 
+// The first n entries of `in`, scanned into `out`.
 void exclusive_scan(Backend backend, const BackendArray<int>& in, BackendArray<int>& out,
-                    BackendArray<unsigned char>& scratch) {
-  const int n = static_cast<int>(in.size());
+                    BackendArray<unsigned char>& scratch, int n) {
   if (backend == Backend::cpu) {
     std::exclusive_scan(in.data(), in.data() + n, out.data(), 0);
     return;
@@ -246,24 +248,38 @@ TreeArrays upload_tree(Backend backend, const ch07::Bvh& bvh) {
   return tree;
 }
 
-WideCollapse::WideCollapse(Backend backend, int triangle_count)
-    : backend_(backend), triangle_count_(triangle_count),
+WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size)
+    : backend_(backend), triangle_count_(triangle_count), leaf_size_(leaf_size),
       capacity_(std::max(1, triangle_count - 1)), range_first_(backend, capacity_),
       range_end_(backend, capacity_), is_wide_(backend, capacity_),
       interior_counts_(backend, capacity_), leaf_counts_(backend, capacity_),
       interior_offsets_(backend, capacity_), triangle_offsets_(backend, capacity_),
       wide_index_(backend, capacity_), wide_total_(backend, 1), nodes_(backend, capacity_),
       records_(backend, std::size_t(5) * std::max(1, triangle_count)),
-      scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0) {}
+      scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0) {
+  if (leaf_size < 1 || leaf_size > k_wide_leaf_triangles)
+    throw UsageError("a wide leaf takes 1 to " + std::to_string(k_wide_leaf_triangles) +
+                     " triangles, not " + std::to_string(leaf_size));
+}
 
 void WideCollapse::run(const TreeArrays& binary) {
   const int n = static_cast<int>(binary.nodes.size());
   if (n > capacity_ || static_cast<int>(binary.triangles.size()) != triangle_count_)
     throw Error("WideCollapse: a tree of another size than the arrays were made for");
-  const CollapseView t{binary.nodes.data(),
-                       binary.parents.data(),
-                       binary.triangles.data(),
-                       binary.triangle_ids.data(),
+  run(binary.nodes.data(), binary.parents.data(), n, binary.triangles.data(),
+      binary.triangle_ids.data());
+}
+
+void WideCollapse::run(const BvhNode* nodes, const int* parents, int node_count,
+                       const TriangleF* triangles, const int* ids) {
+  const int n = node_count;
+  if (n > capacity_) throw Error("WideCollapse: a tree larger than the arrays were made for");
+  if (n == 0) return;
+  const CollapseView t{nodes,
+                       parents,
+                       triangles,
+                       ids,
+                       leaf_size_,
                        range_first_.data(),
                        range_end_.data(),
                        is_wide_.data(),
@@ -276,8 +292,8 @@ void WideCollapse::run(const TreeArrays& binary) {
                        records_.data()};
   for_each_index(backend_, n, MeasureNodes{t});
   for_each_index(backend_, n, CountChildren{t});
-  exclusive_scan(backend_, interior_counts_, interior_offsets_, scratch_);
-  exclusive_scan(backend_, leaf_counts_, triangle_offsets_, scratch_);
+  exclusive_scan(backend_, interior_counts_, interior_offsets_, scratch_, n);
+  exclusive_scan(backend_, leaf_counts_, triangle_offsets_, scratch_, n);
   for_each_index(backend_, n, NumberChildren{t});
   for_each_index(backend_, n, WriteWideNodes{t});
   for_each_index(backend_, 1,

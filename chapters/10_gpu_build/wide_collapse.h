@@ -20,9 +20,17 @@ inline constexpr int k_wide_leaf_triangles = ch09::k_max_leaf_triangles;
 // tree (every frame's, in an animation) with the passes alone: on the GPU nothing waits.
 class WideCollapse {
 public:
-  WideCollapse(Backend backend, int triangle_count);
+  // `leaf_size`: the most triangles a wide leaf takes (1 to 3); binary subtrees of more are
+  // opened. Chapter 13 collapses a tree over instance boxes with leaves of one, each child box
+  // then the box of one instance.
+  WideCollapse(Backend backend, int triangle_count, int leaf_size = ch09::k_max_leaf_triangles);
   // `binary`: this chapter's tree of triangle_count triangles, leaves of one to three.
   void run(const TreeArrays& binary);
+  // The same from a tree's arrays (backend pointers): node_count nodes, their parent links, the
+  // triangles in leaf order, or null where there are none (a tree over boxes: its records then
+  // hold the ids alone, PackedTriangles::id), and the ids.
+  void run(const ch07::BvhNode* nodes, const int* parents, int node_count,
+           const ch04::TriangleF* triangles, const int* ids);
   // What the traversal reads (backend pointers). node_count is the arrays' capacity: the
   // traversal only asks whether it is zero.
   ch09::Wide4PackedBvh::View view() const;
@@ -31,7 +39,7 @@ public:
 
 private:
   Backend backend_;
-  int triangle_count_, capacity_;
+  int triangle_count_, leaf_size_, capacity_;
   BackendArray<int> range_first_, range_end_, is_wide_, interior_counts_, leaf_counts_,
       interior_offsets_, triangle_offsets_, wide_index_, wide_total_;
   BackendArray<ch09::WideNode<4>> nodes_;
