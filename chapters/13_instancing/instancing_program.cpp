@@ -192,12 +192,16 @@ std::string agreement_text(const Agreement& a, long long rays) {
 struct TwoLevelWork {
   double top_nodes = 0, instances = 0, bottom_nodes = 0, triangles = 0;
 };
-TwoLevelWork count_work(const TwoLevelView& host_view, std::span<const RayF> rays, int stride) {
+TwoLevelWork count_work(const TwoLevelView& host_view, TopLayout top,
+                        std::span<const RayF> rays, int stride) {
   TwoLevelWork work;
   long long counted = 0;
   for (std::size_t i = 0; i < rays.size(); i += stride) {
     TwoLevelCounters c;
-    trace_instances<Query::closest>(host_view, rays[i], 0xffffffffu, c);
+    if (top == TopLayout::wide)
+      trace_instances_wide<Query::closest>(host_view, rays[i], 0xffffffffu, c);
+    else
+      trace_instances<Query::closest>(host_view, rays[i], 0xffffffffu, c);
     work.top_nodes += double(c.top_nodes);
     work.instances += double(c.instances);
     work.bottom_nodes += double(c.bottom.nodes);
@@ -271,7 +275,7 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
   std::vector<Spin> spins;
   const InstanceScene scene = make_scene(options, spins);
   const BottomLevel bottom = build_bottom_level(scene.meshes, options.open_levels);
-  TwoLevelScene two_level(backend, scene, bottom, spins);
+  TwoLevelScene two_level(backend, scene, bottom, spins, options.top);
   if (!options.rays_path.empty()) { // a ray file through both levels
     const std::vector<RayF> rays = ch07::read_ray_file(options.rays_path);
     write_flattened_hits(scene, trace_timed(two_level, Query::closest, rays, 1).hits,
@@ -319,6 +323,9 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
   report.add_context("triangles stored / as placed",
                      group_digits(stored) + " / " + group_digits(placed));
   report.add_context("image", to_string(extent));
+  report.add_context("top level", options.top == TopLayout::wide
+                                      ? "4-wide (chapter 10's LBVH, collapsed in parallel)"
+                                      : "binary (chapter 10's LBVH)");
   report.add_context("memory", "bottom level " +
                                    format_fixed(two_level.bottom_bytes() / 1e6, 2) +
                                    " MB, top level and instances " +
@@ -399,12 +406,13 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
     }
     // The same scene on the CPU for the counts (the GPU's arrays are not the host's).
     std::optional<TwoLevelScene> counting;
-    if (backend != Backend::cpu) counting.emplace(Backend::cpu, scene, bottom);
+    if (backend != Backend::cpu)
+      counting.emplace(Backend::cpu, scene, bottom, std::vector<Spin>{}, options.top);
     const TwoLevelView host_view = counting ? counting->view() : two_level.view();
     const auto ray_rows = [&](const std::string& kind, std::span<const RayF> rays,
                               const Traced& two) {
       const TwoLevelWork work =
-          count_work(host_view, rays, std::max<int>(1, int(rays.size() / 20000)));
+          count_work(host_view, options.top, rays, std::max<int>(1, int(rays.size() / 20000)));
       std::string error = "no flattened tree to compare with";
       std::vector<std::pair<std::string, double>> metrics = {
           {"top_nodes", work.top_nodes},

@@ -7,16 +7,18 @@
 #include "instance_scene.h"
 #include "program.h"
 #include "rt/backend.h"
+#include "two_level.h"
 
 namespace rt::ch13 {
 
 struct InstancingOptions : ch03::ProgramOptions {
-  std::string scene_path;      // --scene: an OBJ file (the forest's tree) or a glTF file
-  int instances = 1000;        // --instances: the forest's trees
-  bool small = false;          // --small: the trees are icospheres of 320 triangles
-  double spin = 0.0;           // --spin: radians a second each tree turns (the moving frame's)
-  unsigned seed = 1;           // --seed: the forest's layout
-  int open_levels = 0;         // --open: levels instances of large meshes are opened
+  std::string scene_path; // --scene: an OBJ file (the forest's tree) or a glTF file
+  int instances = 1000;   // --instances: the forest's trees
+  bool small = false;     // --small: the trees are icospheres of 320 triangles
+  double spin = 0.0;      // --spin: radians a second each tree turns (the moving frame's)
+  unsigned seed = 1;      // --seed: the forest's layout
+  TopLayout top = TopLayout::binary; // --top: the top level's node
+  int open_levels = 0;               // --open: levels instances of large meshes are opened
   int flat_limit = 16'000'000; // --flat-limit: flatten for comparison up to this many triangles
   std::string rays_path, hits_path; // --rays, --hits
   std::string dump_hits_path;       // --dump-hits: the view's hits

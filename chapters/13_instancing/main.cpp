@@ -44,6 +44,15 @@ int main(int argc, char** argv) {
       ->check(finite_range(-100.0, 100.0))
       ->capture_default_str();
   app.add_option("--seed", options.seed, "The forest's layout")->capture_default_str();
+  app.add_option_function<std::string>(
+         "--top",
+         [&](const std::string& text) {
+           options.top = text == "wide" ? TopLayout::wide : TopLayout::binary;
+         },
+         "The top level's node: binary (chapter 07's walk) or wide (chapter 09's 4-wide node "
+         "and walk, collapsed every build)")
+      ->check(CLI::IsMember({"binary", "wide"}))
+      ->default_str("binary");
   app.add_option("--open", options.open_levels,
                  "Levels an instance of a mesh of " + std::to_string(k_open_min_triangles) +
                      " triangles or more is opened into subtrees in the top level (0: one "

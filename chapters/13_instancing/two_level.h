@@ -6,6 +6,8 @@
 // queries.
 #pragma once
 
+#include <type_traits>
+
 #include "bvh.h"
 #include "instance.h"
 #include "traverse.h"
@@ -34,6 +36,9 @@ struct TwoLevelView {
   const TopEntry* entries = nullptr;
   const Instance* instances = nullptr;
   const BottomView* meshes = nullptr; // each mesh's bottom-level tree, by Instance::mesh
+  // The same top level collapsed to chapter 09's 4-wide node (leaves of one entry, whose
+  // record's id is the entry), where the scene keeps one; node_count 0 where it does not.
+  BottomView top_wide;
 };
 // [/listing:two_level_view]
 
@@ -117,5 +122,70 @@ RT_HD InstanceHit trace_instances(const TwoLevelView& scene, RayF ray,
   }
 }
 // [/listing:trace_instances]
+
+// [listing:wide_top]
+// The top level as chapter 09's 4-wide tree, walked by chapter 09's own walk (trace_wide): its
+// leaves' "triangles" are entries, and the test of one is the visit of an instance. The walk
+// keeps what the test returns as it keeps a triangle's hit, t shortening the ray; the instance
+// and the mesh's triangle go to `best`, which the walk's own hit cannot carry.
+struct EntryRef {
+  int entry;
+};
+struct TopWideView {
+  BottomView tree;
+  int node_count;
+  const float* columns = nullptr; // the CPU's eight-triangle test has nothing to read here
+  int column_stride = 0;
+  RT_HD decltype(auto) node(int i) const { return tree.node(i); }
+  RT_HD EntryRef triangle(int k) const { return {tree.triangle_id(k)}; }
+  RT_HD int triangle_id(int k) const { return tree.triangle_id(k); }
+};
+
+template <Query kQuery, class C> struct EnterInstance {
+  const TwoLevelView* scene;
+  unsigned mask;
+  InstanceHit* best;
+  C* counters;
+  RT_HD ch04::TriangleHitF operator()(const RayF& ray, EntryRef e) {
+    RayF r = ray;
+    InstanceHit hit;
+    if (!visit_instance<kQuery>(*scene, e.entry, mask, r, hit, *counters) && hit.instance < 0)
+      return {};
+    *best = hit;
+    return {true, hit.t, hit.u, hit.v};
+  }
+};
+
+// Chapter 07's counters of the top-level walk, passed on as the two-level counts.
+template <class C> struct TopCounters {
+  C* counters;
+  RT_HD void node() { counters->top_node(); }
+  RT_HD void triangle() {}
+  RT_HD void stack(int) {}
+};
+
+template <Query kQuery, class C = NoTwoLevelCounters>
+RT_HD InstanceHit trace_instances_wide(const TwoLevelView& scene, RayF ray,
+                                       unsigned mask = 0xffffffffu, C&& counters = C{}) {
+  InstanceHit best;
+  if (scene.top_wide.node_count == 0) return best;
+  using Counters = std::remove_reference_t<C>;
+  const TopWideView top{scene.top_wide, scene.top_wide.node_count};
+  ch09::trace_wide<kQuery>(top, ray, TopCounters<Counters>{&counters},
+                           EnterInstance<kQuery, Counters>{&scene, mask, &best, &counters});
+  return best;
+}
+// [/listing:wide_top]
+
+// Either top level, as chosen when the kernel is compiled.
+enum class TopLayout { binary, wide };
+template <Query kQuery, TopLayout kTop, class C = NoTwoLevelCounters>
+RT_HD InstanceHit trace_two_level(const TwoLevelView& scene, const RayF& ray,
+                                  unsigned mask = 0xffffffffu, C&& counters = C{}) {
+  if constexpr (kTop == TopLayout::wide)
+    return trace_instances_wide<kQuery>(scene, ray, mask, counters);
+  else
+    return trace_instances<kQuery>(scene, ray, mask, counters);
+}
 
 } // namespace rt::ch13

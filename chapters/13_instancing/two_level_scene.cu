@@ -2,12 +2,15 @@
 // two_level_scene.h.
 #include "two_level_scene.h"
 
+#include <optional>
+
 #include "gpu_build.h"
 #include "rt/backend_array.h"
 #include "rt/error.h"
 #include "shade.h"
 #include "spawn.h"
 #include "trace.h"
+#include "wide_collapse.h"
 
 namespace rt::ch13 {
 
@@ -43,18 +46,20 @@ struct BoxEntries {
 };
 // [/listing:move_instances]
 
-template <Query kQuery> struct TraceRays {
+template <Query kQuery, TopLayout kTop> struct TraceRays {
   TwoLevelView scene;
   const RayF* rays;
   InstanceHit* hits;
-  RT_HD void operator()(int i) const { hits[i] = trace_instances<kQuery>(scene, rays[i]); }
+  RT_HD void operator()(int i) const {
+    hits[i] = trace_two_level<kQuery, kTop>(scene, rays[i]);
+  }
 };
 
 // [listing:shade_instance]
 // A pixel of the shaded image: the closest hit's triangle taken to the world by its instance,
 // its normal turned to face the ray, the sun's light if the shadow ray (any hit, through both
 // levels) reaches it, and a little sky light everywhere.
-struct ShadePixels {
+template <TopLayout kTop> struct ShadePixels {
   TwoLevelView scene;
   ShadeView shade;
   ch03::Camera<float> camera;
@@ -63,7 +68,7 @@ struct ShadePixels {
   RT_HD void operator()(int index) const {
     const int x = index % width, y = index / width;
     const RayF ray = camera.ray_through_pixel(x, y);
-    const InstanceHit hit = trace_instances<Query::closest>(scene, ray);
+    const InstanceHit hit = trace_two_level<Query::closest, kTop>(scene, ray);
     Vec3f colour{0.55f, 0.7f, 0.9f}; // the sky
     if (hit.instance >= 0) {
       const Instance& instance = scene.instances[hit.instance];
@@ -77,7 +82,7 @@ struct ShadePixels {
       float sun = 0.0f;
       if (facing > 0.0f) {
         const RayF shadow{ch03::offset_ray_origin(p, n), shade.to_sun};
-        sun = trace_instances<Query::any>(scene, shadow).instance < 0 ? facing : 0.0f;
+        sun = trace_two_level<Query::any, kTop>(scene, shadow).instance < 0 ? facing : 0.0f;
       }
       colour = shade.albedo[hit.instance] * (0.15f + 0.85f * sun);
     }
@@ -104,14 +109,20 @@ struct TwoLevelScene::Arrays {
   BackendArray<Vec3f> albedo;
   BackendArray<Spin> spins;
   ch10::LbvhOverBoxes top;
+  TopLayout layout;
+  std::optional<ch10::WideCollapse> wide_top; // the wide layout's
   double bottom_bytes = 0.0;
 
-  Arrays(Backend b, int instances, int entries)
-      : backend(b), instance_count(instances), entry_count(entries), top(b, entries) {}
+  Arrays(Backend b, int instances, int entries, TopLayout l)
+      : backend(b), instance_count(instances), entry_count(entries), top(b, entries),
+        layout(l) {
+    if (l == TopLayout::wide) wide_top.emplace(b, entries, 1); // leaves of one entry
+  }
 };
 
 TwoLevelScene::TwoLevelScene(Backend backend, const InstanceScene& scene,
-                             const BottomLevel& bottom, std::vector<Spin> spins) {
+                             const BottomLevel& bottom, std::vector<Spin> spins,
+                             TopLayout top) {
   const std::vector<Instance> instances = make_instances(scene);
   if (instances.empty()) throw InputError("a scene of instances needs at least one instance");
   if (spins.size() > instances.size()) throw InputError("more spins than instances");
@@ -133,7 +144,7 @@ TwoLevelScene::TwoLevelScene(Backend backend, const InstanceScene& scene,
     throw InputError(std::to_string(entries.size()) + " top-level entries: at most " +
                      std::to_string(k_max_instances) + " (open fewer levels)");
   arrays_ = std::make_unique<Arrays>(backend, static_cast<int>(instances.size()),
-                                     static_cast<int>(entries.size()));
+                                     static_cast<int>(entries.size()), top);
   Arrays& a = *arrays_;
   std::vector<BottomView> views;
   std::vector<ch04::MeshView> meshes;
@@ -170,12 +181,15 @@ TwoLevelScene::TwoLevelScene(Backend backend, const InstanceScene& scene,
 TwoLevelScene::~TwoLevelScene() = default;
 
 Backend TwoLevelScene::backend() const { return arrays_->backend; }
+TopLayout TwoLevelScene::top_layout() const { return arrays_->layout; }
 int TwoLevelScene::instance_count() const { return arrays_->instance_count; }
 
 TwoLevelView TwoLevelScene::view() const {
   const Arrays& a = *arrays_;
-  return {a.top.nodes(),    a.top.leaf_ids(),   a.top.node_count(),
-          a.entries.data(), a.instances.data(), a.bottom_views.data()};
+  TwoLevelView view{a.top.nodes(),    a.top.leaf_ids(),   a.top.node_count(),
+                    a.entries.data(), a.instances.data(), a.bottom_views.data()};
+  if (a.wide_top) view.top_wide = a.wide_top->view();
+  return view;
 }
 
 ShadeView TwoLevelScene::shade_view() const {
@@ -183,7 +197,11 @@ ShadeView TwoLevelScene::shade_view() const {
 }
 
 void TwoLevelScene::build_top() {
-  arrays_->top.build(arrays_->boxes.data(), arrays_->entry_count);
+  Arrays& a = *arrays_;
+  a.top.build(a.boxes.data(), a.entry_count);
+  if (a.wide_top)
+    a.wide_top->run(a.top.nodes(), a.top.parents(), a.top.node_count(), nullptr,
+                    a.top.leaf_ids());
 }
 
 void TwoLevelScene::move(double seconds) {
@@ -212,16 +230,30 @@ double TwoLevelScene::top_bytes() const {
 
 void trace_rays(const TwoLevelScene& scene, Query query, const RayF* rays, int count,
                 InstanceHit* hits) {
-  if (query == Query::closest)
-    for_each_index(scene.backend(), count, TraceRays<Query::closest>{scene.view(), rays, hits});
+  const Backend b = scene.backend();
+  const TwoLevelView v = scene.view();
+  const bool wide = scene.top_layout() == TopLayout::wide;
+  if (query == Query::closest && wide)
+    for_each_index(b, count, TraceRays<Query::closest, TopLayout::wide>{v, rays, hits});
+  else if (query == Query::closest)
+    for_each_index(b, count, TraceRays<Query::closest, TopLayout::binary>{v, rays, hits});
+  else if (wide)
+    for_each_index(b, count, TraceRays<Query::any, TopLayout::wide>{v, rays, hits});
   else
-    for_each_index(scene.backend(), count, TraceRays<Query::any>{scene.view(), rays, hits});
+    for_each_index(b, count, TraceRays<Query::any, TopLayout::binary>{v, rays, hits});
 }
 
 void render_shaded(const TwoLevelScene& scene, const ch03::Camera<float>& camera, Extent extent,
                    Rgba8* pixels) {
-  for_each_index(scene.backend(), static_cast<int>(extent.pixel_count()),
-                 ShadePixels{scene.view(), scene.shade_view(), camera, extent.width, pixels});
+  const int count = static_cast<int>(extent.pixel_count());
+  if (scene.top_layout() == TopLayout::wide)
+    for_each_index(scene.backend(), count,
+                   ShadePixels<TopLayout::wide>{scene.view(), scene.shade_view(), camera,
+                                                extent.width, pixels});
+  else
+    for_each_index(scene.backend(), count,
+                   ShadePixels<TopLayout::binary>{scene.view(), scene.shade_view(), camera,
+                                                  extent.width, pixels});
 }
 
 } // namespace rt::ch13

@@ -30,17 +30,20 @@ public:
   // and the top level built once. `spins` (one per instance from the first, or none) lets
   // move() turn those instances.
   TwoLevelScene(Backend backend, const InstanceScene& scene, const BottomLevel& bottom,
-                std::vector<Spin> spins = {});
+                std::vector<Spin> spins = {}, TopLayout top = TopLayout::binary);
   ~TwoLevelScene();
   TwoLevelScene(const TwoLevelScene&) = delete;
   TwoLevelScene& operator=(const TwoLevelScene&) = delete;
 
   Backend backend() const;
+  TopLayout top_layout() const;
   int instance_count() const;
   int entry_count() const; // the top level's leaves: instances, opened into subtrees
   TwoLevelView view() const;
   ShadeView shade_view() const;
-  // The top level built again over the instances' current boxes: queued on the GPU.
+  // The top level built again over the instances' current boxes (and, for the wide layout,
+  // collapsed to chapter 09's 4-wide node by chapter 10's parallel collapse): queued on the
+  // GPU.
   void build_top();
   // The spinning instances placed for time `seconds` (transforms and boxes, in double on the
   // backend), then build_top(): one frame of the moving scene, queued on the GPU.

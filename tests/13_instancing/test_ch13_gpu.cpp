@@ -120,6 +120,24 @@ TEST_CASE("a forest of 50 instances: the GPU's hits and image are the CPU's, bit
   check_same_on_both(gpu, cpu, rays, camera, extent, "after build_top()");
 }
 
+TEST_CASE("the wide top level: the GPU's hits and image are the CPU's, bit for bit",
+          "[ch13][gpu][wide-top]") {
+  // The top level collapsed to chapter 09's 4-wide node by chapter 10's parallel collapse, on
+  // both backends, as built and after the trees have turned.
+  RT_REQUIRE_GPU();
+  const Forest forest = icosphere_forest(300, 1330, 0.7);
+  const BottomLevel bottom = build_bottom_level(forest.scene.meshes);
+  TwoLevelScene gpu(Backend::gpu, forest.scene, bottom, forest.spins, TopLayout::wide);
+  TwoLevelScene cpu(Backend::cpu, forest.scene, bottom, forest.spins, TopLayout::wide);
+  std::vector<RayF> rays = rays_into_box(scene_box(forest.scene), 0.4, 20000, 1331);
+  const Extent extent{96, 64};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(*forest.scene.camera, extent);
+  check_same_on_both(gpu, cpu, rays, camera, extent, "wide, as built");
+  gpu.move(1.5);
+  cpu.move(1.5);
+  check_same_on_both(gpu, cpu, rays, camera, extent, "wide, after move(1.5)");
+}
+
 TEST_CASE("the GPU's moved instances are the host's placed_instance and world_box",
           "[ch13][gpu]") {
   // move() makes every transform from its spin in double on the device (sincos) and on the

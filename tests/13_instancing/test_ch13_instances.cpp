@@ -942,6 +942,57 @@ nlohmann::json row_named(const nlohmann::json& report, const std::string& varian
 
 } // namespace
 
+TEST_CASE("the wide top level finds the binary top level's hits", "[ch13][wide-top]") {
+  // The same instances under chapter 07's binary walk and under chapter 09's 4-wide walk of the
+  // collapsed top level: the same closest hit (instance, triangle, t bit for bit; of two at
+  // exactly the same t either may be kept) and the same any-hit answer, as built and after
+  // move(); and a scene of one instance, whose collapsed top level is a single leaf.
+  const Forest forest = icosphere_forest(200, 1340, 0.8);
+  const BottomLevel bottom = build_bottom_level(forest.scene.meshes);
+  TwoLevelScene binary(Backend::cpu, forest.scene, bottom, forest.spins, TopLayout::binary);
+  TwoLevelScene wide(Backend::cpu, forest.scene, bottom, forest.spins, TopLayout::wide);
+  const std::vector<RayF> rays = rays_into_box(scene_box(forest.scene), 0.3, 20000, 1341);
+  for (const double seconds : {0.0, 2.5}) {
+    binary.move(seconds);
+    wide.move(seconds);
+    const std::vector<InstanceHit> b = trace_all(binary, Query::closest, rays);
+    const std::vector<InstanceHit> w = trace_all(wide, Query::closest, rays);
+    const std::vector<InstanceHit> b_any = trace_all(binary, Query::any, rays);
+    const std::vector<InstanceHit> w_any = trace_all(wide, Query::any, rays);
+    long long hits = 0, ties = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      CAPTURE(seconds, i);
+      REQUIRE((b[i].instance < 0) == (w[i].instance < 0));
+      REQUIRE((b_any[i].instance < 0) == (w_any[i].instance < 0));
+      REQUIRE((b[i].instance < 0) == (b_any[i].instance < 0));
+      if (b[i].instance < 0) continue;
+      ++hits;
+      REQUIRE(same_bits(b[i].t, w[i].t));
+      ties += b[i].instance != w[i].instance || b[i].triangle != w[i].triangle;
+    }
+    CAPTURE(hits, ties);
+    CHECK(hits > 5000);
+    CHECK(ties <= hits / 1000);
+  }
+  InstanceScene one;
+  one.meshes.push_back(ch04::make_icosphere(2, {0.0, 0.0, 0.0}, 1.0));
+  one.placements.push_back({rotation({0.0, 1.0, 0.0}, 0.3), 0});
+  const BottomLevel one_bottom = build_bottom_level(one.meshes);
+  TwoLevelScene one_binary(Backend::cpu, one, one_bottom, {}, TopLayout::binary);
+  TwoLevelScene one_wide(Backend::cpu, one, one_bottom, {}, TopLayout::wide);
+  const std::vector<RayF> one_rays = rays_into_box(scene_box(one), 0.5, 2000, 1342);
+  const std::vector<InstanceHit> b = trace_all(one_binary, Query::closest, one_rays);
+  const std::vector<InstanceHit> w = trace_all(one_wide, Query::closest, one_rays);
+  long long one_hits = 0;
+  for (std::size_t i = 0; i < one_rays.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(b[i].triangle == w[i].triangle);
+    REQUIRE(same_bits(b[i].t, w[i].t));
+    one_hits += b[i].instance >= 0;
+  }
+  CHECK(one_hits > 200);
+}
+
 TEST_CASE("program: a small forest's report, its rows and their agreement", "[ch13][program]") {
   const fs::path folder = rt::testing::temp_folder("rt_ch13");
   const std::string json = (folder / "forest.json").string();
