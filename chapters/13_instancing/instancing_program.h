@@ -17,8 +17,8 @@ struct InstancingOptions : ch03::ProgramOptions {
   bool small = false;     // --small: the trees are icospheres of 320 triangles
   double spin = 0.0;      // --spin: radians a second each tree turns (the moving frame's)
   unsigned seed = 1;      // --seed: the forest's layout
-  TopLayout top = TopLayout::binary; // --top: the top level's node
-  int open_levels = 0;               // --open: levels instances of large meshes are opened
+  TopLayout top = TopLayout::wide; // --top: the top level's node
+  int open_levels = 0;             // --open: levels instances of large meshes are opened
   int flat_limit = 16'000'000; // --flat-limit: flatten for comparison up to this many triangles
   std::string rays_path, hits_path; // --rays, --hits
   std::string dump_hits_path;       // --dump-hits: the view's hits

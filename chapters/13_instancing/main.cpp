@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
          "The top level's node: binary (chapter 07's walk) or wide (chapter 09's 4-wide node "
          "and walk, collapsed every build)")
       ->check(CLI::IsMember({"binary", "wide"}))
-      ->default_str("binary");
+      ->default_str("wide");
   app.add_option("--open", options.open_levels,
                  "Levels an instance of a mesh of " + std::to_string(k_open_min_triangles) +
                      " triangles or more is opened into subtrees in the top level (0: one "
