@@ -21,7 +21,7 @@ namespace rt::ch13 {
 struct ShadeView {
   const ch04::MeshView* meshes = nullptr; // by mesh number
   const Vec3f* albedo = nullptr;          // by instance
-  Vec3f to_sun{0.4f, 0.8f, 0.3f};         // unit
+  Vec3f to_sun{0.424f, 0.848f, 0.318f};   // unit (to 2e-6): (4, 8, 3) / |(4, 8, 3)|
 };
 
 class TwoLevelScene {

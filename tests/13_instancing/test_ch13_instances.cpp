@@ -721,11 +721,13 @@ TEST_CASE(
   // A sphere of radius 1e-3 (scale 1e-3) at distances 1 to 1e3 from the origin, where float's
   // spacing grows to an eighth of its radius. The reference is the float ray (exact in double)
   // against the object's triangles placed in double, not rounded. The flattened copy rounds
-  // every placed vertex once; the instance rounds the ray once into its space, and there
-  // to_object's translation column (about |position| / scale) cancels against the rotated
-  // origin in float, an error of a few float ulps of |position| in the world: the same order
-  // as the flattened copy's, not below it. Both are held to one float ulp of |position|
-  // (median) and the instanced error to at most 4 times the flattened one; both are printed.
+  // every placed vertex once; the instance rounds the ray once into its space, the origin moved
+  // by the translation first (to_object_space), so that no two large terms cancel. Both are
+  // held to one float ulp of |position| (median), and the instanced error to at most 1.25 times
+  // the flattened one (at 1 from the origin both sit at float's floor, within a few per cent of
+  // each other; farther out the instance's is the smaller): moving the origin as
+  // to_object.point(o) does, L^-1 o - L^-1 T in float, made it 2.5 to 3 times the flattened
+  // error, which this check refuses. Both are printed.
   const ch04::Mesh object = ch04::make_icosphere(2, {0.0, 0.0, 0.0}, 1.0);
   for (const double far : {1.0, 10.0, 100.0, 1000.0}) {
     CAPTURE(far);
@@ -785,7 +787,7 @@ TEST_CASE(
     CHECK(flat_misses == 0);
     CHECK(instanced_median <= ulp);
     CHECK(flat_median <= ulp);
-    CHECK(instanced_median <= 4.0 * flat_median);
+    CHECK(instanced_median <= 1.25 * flat_median);
   }
 }
 
