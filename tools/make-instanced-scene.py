@@ -37,6 +37,8 @@ import pathlib
 import struct
 import sys
 
+from gltf_buffers import BufferViews
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 _spec = importlib.util.spec_from_file_location("make_assets", ROOT / "tools" / "make-assets.py")
@@ -259,16 +261,9 @@ def nodes():
 
 
 def gltf_files():
-    buffer = bytearray()
-    views, accessors, meshes = [], [], []
-
-    def add(data, target):
-        while len(buffer) % 4:
-            buffer.append(0)
-        views.append({"buffer": 0, "byteOffset": len(buffer), "byteLength": len(data),
-                      "target": target})
-        buffer.extend(data)
-        return len(views) - 1
+    blocks = BufferViews()
+    add = blocks.add
+    accessors, meshes = [], []
 
     for name, (points, faces), material, _ in MESHES:
         floats = [struct.unpack("<f", struct.pack("<f", c))[0]
@@ -297,11 +292,11 @@ def gltf_files():
             "yfov": round(math.radians(CAMERA_YFOV_DEGREES), ANGLE_DECIMALS), "znear": 0.01}}],
         "meshes": meshes,
         "materials": MATERIALS,
-        "buffers": [{"byteLength": len(buffer), "uri": NAME + ".bin"}],
-        "bufferViews": views,
+        "buffers": [{"byteLength": len(blocks.buffer), "uri": NAME + ".bin"}],
+        "bufferViews": blocks.views,
         "accessors": accessors,
     }
-    return json.dumps(gltf, indent=1) + "\n", bytes(buffer)
+    return json.dumps(gltf, indent=1) + "\n", bytes(blocks.buffer)
 
 
 def counts(gltf_text):

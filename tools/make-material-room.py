@@ -31,6 +31,8 @@ import struct
 import sys
 import zlib
 
+from gltf_buffers import BufferViews
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 ASSETS = ROOT / "assets"
 
@@ -213,16 +215,9 @@ def mtl_text():
 
 def gltf_text(groups):
     names = list(MATERIALS)
-    buffer = bytearray()
-    views, accessors, primitives = [], [], []
-
-    def add(data, target):
-        while len(buffer) % 4:
-            buffer.append(0)
-        views.append({"buffer": 0, "byteOffset": len(buffer), "byteLength": len(data),
-                      "target": target})
-        buffer.extend(data)
-        return len(views) - 1
+    blocks = BufferViews()
+    add = blocks.add
+    accessors, primitives = [], []
 
     for name, vertices, faces, uv in groups:
         floats = [struct.unpack("<f", struct.pack("<f", c))[0] for p in vertices for c in p]
@@ -287,9 +282,10 @@ def gltf_text(groups):
         "textures": [{"source": 0, "sampler": 0}],
         "samplers": [{"wrapS": 10497, "wrapT": 10497}],
         "images": [{"uri": TEXTURE}],
-        "buffers": [{"byteLength": len(buffer), "uri": "data:application/octet-stream;base64,"
-                     + base64.b64encode(bytes(buffer)).decode("ascii")}],
-        "bufferViews": views,
+        "buffers": [{"byteLength": len(blocks.buffer),
+                     "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(bytes(blocks.buffer)).decode("ascii")}],
+        "bufferViews": blocks.views,
         "accessors": accessors,
     }
     return json.dumps(gltf, indent=1) + "\n"
