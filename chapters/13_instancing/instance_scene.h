@@ -48,7 +48,7 @@ std::vector<Instance> make_instances(const InstanceScene& scene);
 // box, tighter once turned (Benthin et al. call this re-braiding). A node is opened only where
 // all its children are subtrees (no triangles of its own), so the subtrees cover the mesh.
 // Meshes of fewer than k_open_min_triangles triangles are not opened. Off by default: on an
-// H200 every level opened made the dragon forest slower (book 13's lab notes), since each
+// H200 every level opened made the dragon forest slower (the book's appendix C4), since each
 // subtree entered moves the ray again and the top level over subtrees is deeper.
 inline constexpr int k_open_min_triangles = 4096;
 inline constexpr int k_max_open_levels = 3;
