@@ -12,6 +12,7 @@
 
 #include "camera_cli.h"
 #include "collapse.h"
+#include "instanced_paths.h"
 #include "obj_loader.h"
 #include "program.h"
 #include "ray_io.h"
@@ -376,6 +377,27 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
       two_level.move(0.0); // back to the still scene for the rays below
     }
 
+    // Paths: the sky-lit Lambertian path tracer of instanced_paths.h, --spp samples a pixel.
+    if (options.spp > 0) {
+      BackendArray<Vec3f> d_radiance(backend, static_cast<std::size_t>(extent.pixel_count()));
+      PathSettings settings;
+      settings.samples = options.spp;
+      const Timing paths = time_on(
+          backend,
+          [&] {
+            render_paths(two_level, camera, extent, settings, d_radiance.data(),
+                         d_pixels.data());
+          },
+          frames);
+      rows.add_row(
+          {"path traced, sky-lit: " + std::to_string(options.spp) + " samples per pixel",
+           to_string(backend),
+           paths.median_ms,
+           pixels * options.spp / paths.median_ms / 1e3,
+           format_fixed(paths.median_ms / options.spp, 3) + " ms a sample (M samples/s)",
+           {{"ms_per_sample", paths.median_ms / options.spp}}});
+    }
+
     // Primary and diffuse rays, against the flattened scene where it fits.
     const std::vector<RayF> primary = camera_rays(camera, extent);
     const Traced primary_hits = trace_timed(two_level, Query::closest, primary, frames);
@@ -463,7 +485,12 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
           [&] {
             two_level.move(0.0);
             return render_into_image(backend, extent, [&](Rgba8* pixels) {
-              render_shaded(two_level, camera, extent, pixels);
+              if (options.spp == 0) return render_shaded(two_level, camera, extent, pixels);
+              BackendArray<Vec3f> radiance(backend,
+                                           static_cast<std::size_t>(extent.pixel_count()));
+              PathSettings settings;
+              settings.samples = options.spp;
+              render_paths(two_level, camera, extent, settings, radiance.data(), pixels);
             });
           },
   };

@@ -18,7 +18,8 @@ struct InstancingOptions : ch03::ProgramOptions {
   double spin = 0.0;      // --spin: radians a second each tree turns (the moving frame's)
   unsigned seed = 1;      // --seed: the forest's layout
   TopLayout top = TopLayout::wide; // --top: the top level's node
-  int open_levels = 0;             // --open: levels instances of large meshes are opened
+  int spp = 0;         // --spp: path-traced samples per pixel (0: the shaded frame alone)
+  int open_levels = 0; // --open: levels instances of large meshes are opened
   int flat_limit = 16'000'000; // --flat-limit: flatten for comparison up to this many triangles
   std::string rays_path, hits_path; // --rays, --hits
   std::string dump_hits_path;       // --dump-hits: the view's hits

@@ -43,6 +43,12 @@ int main(int argc, char** argv) {
                  "Radians a second each tree turns in the moving frame's measurement (0: none)")
       ->check(finite_range(-100.0, 100.0))
       ->capture_default_str();
+  app.add_option("--spp", options.spp,
+                 "Path-trace the scene under a white sky with this many samples per pixel "
+                 "(chapter 11's bounces through both levels): a row of the report, and the "
+                 "--output picture; 0: the shaded frame alone")
+      ->check(CLI::Range(0, 65536))
+      ->capture_default_str();
   app.add_option("--seed", options.seed, "The forest's layout")->capture_default_str();
   app.add_option_function<std::string>(
          "--top",

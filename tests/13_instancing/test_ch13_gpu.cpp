@@ -10,6 +10,7 @@
 
 #include "gpu_guard.h"
 #include "instance_cases.h"
+#include "instanced_paths.h"
 #include "rt/backend_array.h"
 #include "rt/device_buffer.h"
 #include "two_level_scene.h"
@@ -136,6 +137,29 @@ TEST_CASE("the wide top level: the GPU's hits and image are the CPU's, bit for b
   gpu.move(1.5);
   cpu.move(1.5);
   check_same_on_both(gpu, cpu, rays, camera, extent, "wide, after move(1.5)");
+}
+
+TEST_CASE("paths through two levels: the GPU's radiance is the CPU's, bit for bit",
+          "[ch13][gpu][paths]") {
+  // Chapter 11's stateless random numbers and unfused arithmetic: the same paths on both
+  // backends, so the same mean radiance in every pixel, for both top levels.
+  RT_REQUIRE_GPU();
+  const Forest forest = icosphere_forest(60, 1360, 0.4);
+  const BottomLevel bottom = build_bottom_level(forest.scene.meshes);
+  const Extent extent{64, 48};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(*forest.scene.camera, extent);
+  PathSettings settings;
+  settings.samples = 8;
+  for (const TopLayout top : {TopLayout::binary, TopLayout::wide}) {
+    TwoLevelScene gpu(Backend::gpu, forest.scene, bottom, forest.spins, top);
+    TwoLevelScene cpu(Backend::cpu, forest.scene, bottom, forest.spins, top);
+    BackendArray<Vec3f> on_gpu(Backend::gpu, static_cast<std::size_t>(extent.pixel_count()));
+    std::vector<Vec3f> on_cpu(static_cast<std::size_t>(extent.pixel_count()));
+    render_paths(gpu, camera, extent, settings, on_gpu.data(), nullptr);
+    render_paths(cpu, camera, extent, settings, on_cpu.data(), nullptr);
+    CAPTURE(int(top));
+    CHECK(count_differing(on_gpu.to_host(), on_cpu) == 0);
+  }
 }
 
 TEST_CASE("the GPU's moved instances are the host's placed_instance and world_box",

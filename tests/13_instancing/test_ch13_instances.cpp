@@ -21,6 +21,7 @@
 #include "instance.h"
 #include "instance_cases.h"
 #include "instance_scene.h"
+#include "instanced_paths.h"
 #include "instancing_program.h"
 #include "mesh_gen.h"
 #include "ray_io.h"
@@ -993,6 +994,53 @@ TEST_CASE("the wide top level finds the binary top level's hits", "[ch13][wide-t
     one_hits += b[i].instance >= 0;
   }
   CHECK(one_hits > 200);
+}
+
+TEST_CASE("paths through two levels: a white furnace of turned instances gives 1",
+          "[ch13][paths]") {
+  // Every albedo 1 under a sky of 1: each path's value is 1, or 1 / 0.95^k where roulette let
+  // it live k times and 0 where it did not, so every pixel's mean is 1 in expectation, whatever
+  // the instances, their transforms and the top level. The mean over the image must lie within
+  // 4 standard errors of 1 (the paths' own spread, measured), for both top levels, as built and
+  // with the trees turned; no pixel is NaN. A roulette that forgets to divide by q gives 0.984
+  // here, which the check refuses.
+  const Forest forest = icosphere_forest(40, 1350, 0.6);
+  const BottomLevel bottom = build_bottom_level(forest.scene.meshes);
+  const Extent extent{48, 32};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(*forest.scene.camera, extent);
+  PathSettings settings;
+  settings.samples = 64;
+  settings.white = true;
+  for (const TopLayout top : {TopLayout::binary, TopLayout::wide}) {
+    TwoLevelScene scene(Backend::cpu, forest.scene, bottom, forest.spins, top);
+    for (const double seconds : {0.0, 1.3}) {
+      scene.move(seconds);
+      std::vector<Vec3f> radiance(static_cast<std::size_t>(extent.pixel_count()));
+      render_paths(scene, camera, extent, settings, radiance.data(), nullptr);
+      double sum = 0.0, squares = 0.0;
+      for (const Vec3f& r : radiance) {
+        REQUIRE(r.x == r.x);
+        REQUIRE(r.x == r.y);
+        REQUIRE(r.y == r.z);
+        sum += r.x;
+        squares += double(r.x) * r.x;
+      }
+      const double n = double(radiance.size());
+      const double mean = sum / n;
+      const double error = std::sqrt(std::max(0.0, squares / n - mean * mean) / n);
+      CAPTURE(int(top), seconds, mean, error);
+      CHECK(std::abs(mean - 1.0) <= 4.0 * error + 1e-6);
+      CHECK(error < 0.02); // the check above is a real one
+    }
+  }
+  // The same scene not white: every value is below the furnace's (albedos under 1 only take).
+  TwoLevelScene scene(Backend::cpu, forest.scene, bottom, forest.spins);
+  settings.white = false;
+  std::vector<Vec3f> radiance(static_cast<std::size_t>(extent.pixel_count()));
+  render_paths(scene, camera, extent, settings, radiance.data(), nullptr);
+  double sum = 0.0;
+  for (const Vec3f& r : radiance) sum += r.x + r.y + r.z;
+  CHECK(sum / (3.0 * double(radiance.size())) < 0.9);
 }
 
 TEST_CASE("program: a small forest's report, its rows and their agreement", "[ch13][program]") {
