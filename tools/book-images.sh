@@ -326,4 +326,6 @@ python3 tools/diagrams/closing.py "$img"
   --height 180 --frames 1 --flat-limit 0 --output "$img/13_million.png" >/dev/null
 "$bin/ch13_instancing" --headless --backend cpu --scene assets/instanced_shelf.gltf --width 640 \
   --height 360 --frames 1 --flat-limit 0 --output "$img/13_shelf.png" >/dev/null
+"$bin/ch13_instancing" --headless --backend cpu --instances 30 --width 480 --height 270 \
+  --spp 64 --frames 1 --flat-limit 0 --output "$img/13_paths.png" >/dev/null
 python3 tools/diagrams/ch13.py "$img"
