@@ -1,4 +1,8 @@
 // Chapter 13: sky-lit paths through two levels. See instanced_paths.h.
+// Compiled with -fmad=false (CMakeLists.txt), as chapter 11's kernels are, and with chapter
+// 07's cosine sampling given its device side: no a * b + c is fused on the GPU, as none is on
+// the CPU, so both backends trace the same paths bit for bit.
+#define RT_NO_CONTRACTION 1
 #include "instanced_paths.h"
 
 #include "path_random.h"
@@ -73,14 +77,11 @@ template <TopLayout kTop> struct TracePaths {
 void render_paths(const TwoLevelScene& scene, const ch03::Camera<float>& camera, Extent extent,
                   const PathSettings& settings, Vec3f* radiance, Rgba8* pixels) {
   const int count = static_cast<int>(extent.pixel_count());
-  if (scene.top_layout() == TopLayout::wide)
+  with_top_layout(scene.top_layout(), [&](auto top) {
     for_each_index(scene.backend(), count,
-                   TracePaths<TopLayout::wide>{scene.view(), scene.shade_view(), camera,
-                                               extent.width, settings, radiance, pixels});
-  else
-    for_each_index(scene.backend(), count,
-                   TracePaths<TopLayout::binary>{scene.view(), scene.shade_view(), camera,
-                                                 extent.width, settings, radiance, pixels});
+                   TracePaths<decltype(top)::value>{scene.view(), scene.shade_view(), camera,
+                                                    extent.width, settings, radiance, pixels});
+  });
 }
 
 } // namespace rt::ch13

@@ -199,10 +199,10 @@ TwoLevelWork count_work(const TwoLevelView& host_view, TopLayout top,
   long long counted = 0;
   for (std::size_t i = 0; i < rays.size(); i += stride) {
     TwoLevelCounters c;
-    if (top == TopLayout::wide)
-      trace_instances_wide<Query::closest>(host_view, rays[i], 0xffffffffu, c);
-    else
-      trace_instances<Query::closest>(host_view, rays[i], 0xffffffffu, c);
+    with_top_layout(top, [&](auto layout) {
+      trace_two_level<Query::closest, decltype(layout)::value>(host_view, rays[i], 0xffffffffu,
+                                                               c);
+    });
     work.top_nodes += double(c.top_nodes);
     work.instances += double(c.instances);
     work.bottom_nodes += double(c.bottom.nodes);
@@ -324,9 +324,14 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
   report.add_context("triangles stored / as placed",
                      group_digits(stored) + " / " + group_digits(placed));
   report.add_context("image", to_string(extent));
-  report.add_context("top level", options.top == TopLayout::wide
-                                      ? "4-wide (chapter 10's LBVH, collapsed in parallel)"
-                                      : "binary (chapter 10's LBVH)");
+  report.add_context("top level",
+                     options.top == TopLayout::binary
+                         ? "binary (chapter 10's LBVH), chapter 09's walk at each instance"
+                     : options.top == TopLayout::nested
+                         ? "4-wide (chapter 10's LBVH, collapsed in parallel), chapter 09's "
+                           "walk at each level, nested"
+                         : "4-wide (chapter 10's LBVH, collapsed in parallel), both levels in "
+                           "one loop");
   report.add_context("memory", "bottom level " +
                                    format_fixed(two_level.bottom_bytes() / 1e6, 2) +
                                    " MB, top level and instances " +

@@ -53,11 +53,14 @@ int main(int argc, char** argv) {
   app.add_option_function<std::string>(
          "--top",
          [&](const std::string& text) {
-           options.top = text == "wide" ? TopLayout::wide : TopLayout::binary;
+           options.top = text == "wide"     ? TopLayout::wide
+                         : text == "nested" ? TopLayout::nested
+                                            : TopLayout::binary;
          },
-         "The top level's node: binary (chapter 07's walk) or wide (chapter 09's 4-wide node "
-         "and walk, collapsed every build)")
-      ->check(CLI::IsMember({"binary", "wide"}))
+         "The top level and its walk: binary (chapter 07's node and walk), nested (chapter "
+         "09's 4-wide node, collapsed every build, and its walk, which calls the mesh's at "
+         "each instance) or wide (the same node, both levels in one loop)")
+      ->check(CLI::IsMember({"binary", "nested", "wide"}))
       ->default_str("wide");
   app.add_option("--open", options.open_levels,
                  "Levels an instance of a mesh of " + std::to_string(k_open_min_triangles) +

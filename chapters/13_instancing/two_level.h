@@ -177,15 +177,131 @@ RT_HD InstanceHit trace_instances_wide(const TwoLevelView& scene, RayF ray,
 }
 // [/listing:wide_top]
 
-// Either top level, as chosen when the kernel is compiled.
-enum class TopLayout { binary, wide };
+// [listing:one_loop]
+// Both levels in one loop. The walks above nest: at an instance the top level's loop stops and
+// the mesh's runs to its end. On the GPU the 32 rays of a warp run as one, so while some of
+// them are inside a dragon the others, still in the top level, wait for them; and the walk of
+// a warp is as long as the sum of its rays' two walks. Here, as in the hardware walks of
+// OptiX, DXR and Vulkan, there is one loop: the top level is a 4-wide packed tree like the
+// meshes' own, so a step is one node read whichever level the ray is in, and a warp's rays
+// step together, some at the top and some below.
+//   - A top-level node read gives entries where a mesh's gives triangles. They wait in
+//     `entries` (the first slot of their leaves in the top's record array, and their bits) and
+//     are entered one by one.
+//   - To enter one, the top's node group and then a marker holding the entries still waiting
+//     are pushed, and the ray, the tree and the group become the instance's.
+//   - When the instance's walk empties its groups, the pop finds the marker: the ray, the tree
+//     and the waiting entries become the top's again, the nearest hit's t kept (t is the same
+//     in both spaces, the direction not being normalised).
+// A marker is told from a node group by its base, which is negative (the bitwise complement
+// of the entries' first slot). The stack holds the top's groups, one marker and the mesh's
+// groups: at most two trees' depths and one.
+struct TwoLevelStack {
+  ch09::NodeGroup entries[2 * ch09::k_wide_stack_size + 1];
+  RT_HD void store(int entry, ch09::NodeGroup group) { entries[entry] = group; }
+  RT_HD ch09::NodeGroup load(int entry) const { return entries[entry]; }
+};
+
+template <Query kQuery, class C = NoTwoLevelCounters>
+RT_HD InstanceHit trace_instances_one_loop(const TwoLevelView& scene, const RayF& world,
+                                           unsigned mask = 0xffffffffu, C&& counters = C{}) {
+  using ch09::NodeGroup;
+  InstanceHit best;
+  if (scene.top_wide.node_count == 0 || !ch07::traceable(world)) return best;
+  RayF ray = world; // the level's ray: the world's at the top, the instance's below
+  auto r = ch09::make_traversal_ray(ray);
+  ch09::WatertightTest intersect(ray);
+  BottomView tree = scene.top_wide;
+  int instance = -1; // the instance being walked; -1 at the top
+  int entries_base = 0;
+  unsigned entries = 0; // entries waiting at the top, their bits counted from entries_base
+  TwoLevelStack stack;
+  int stack_size = 0;
+  NodeGroup group{0, (1u << (24 + r.octant_inverse)) | 1u};
+  for (;;) {
+    if (entries != 0) { // enter the next waiting entry's instance
+      const int slot = entries_base + ch09::lowest_bit(entries);
+      entries &= entries - 1;
+      const TopEntry e = scene.entries[scene.top_wide.triangle_id(slot)];
+      const Instance& placed = scene.instances[e.instance];
+      if ((placed.mask & mask) == 0) continue;
+      counters.instance();
+      if (group.hits & ch09::k_child_bits) stack.store(stack_size++, group);
+      stack.store(stack_size++, NodeGroup{~entries_base, entries});
+      entries = 0;
+      instance = e.instance;
+      tree = scene.meshes[placed.mesh];
+      ray = to_object_space(placed, ray); // ray is the world's here, its tmax the nearest hit
+      r = ch09::make_traversal_ray(ray);
+      intersect = ch09::WatertightTest(ray);
+      group = {e.node, (1u << (24 + r.octant_inverse)) | 1u};
+    }
+    if ((group.hits & ch09::k_child_bits) == 0) {
+      if (stack_size == 0) return best;
+      group = stack.load(--stack_size);
+      if (group.base < 0) { // the marker: back to the top, to its waiting entries
+        const float tmax = ray.tmax;
+        ray = world;
+        ray.tmax = tmax;
+        r = ch09::make_traversal_ray(ray);
+        tree = scene.top_wide;
+        instance = -1;
+        entries_base = ~group.base;
+        entries = group.hits;
+        group = {0, 0u};
+        continue;
+      }
+    }
+    // chapter 09's step: the group's next child read, the rest of the group pushed
+    const int bit = ch09::highest_bit(group.hits);
+    group.hits &= ~(1u << bit);
+    const unsigned slot = unsigned(bit - 24) ^ r.octant_inverse;
+    const int node = group.base + ch09::bit_count(group.hits & ((1u << slot) - 1u) & 0xffu);
+    if (group.hits & ch09::k_child_bits) stack.store(stack_size++, group);
+    instance < 0 ? counters.top_node() : counters.bottom.node();
+    const ch09::NodeHits h = ch09::intersect_node(tree.node(node), r, ray.tmin, ray.tmax);
+    group = {h.child_base, h.children};
+    if (instance < 0) {
+      entries_base = h.triangle_base;
+      entries = h.triangles;
+      continue;
+    }
+    ch07::TraceHit hit;
+    const bool answered = ch09::test_node_triangles<kQuery>(
+        tree, h.triangle_base, h.triangles, ray, hit, counters.bottom, intersect);
+    if (hit.triangle >= 0) best = {hit.t, instance, hit.triangle, hit.u, hit.v};
+    if (answered) return best;
+  }
+}
+// [/listing:one_loop]
+
+// Which top level and walk, as chosen when the kernel is compiled:
+//   - binary: chapter 07's node and walk at the top, chapter 09's walk called at each instance;
+//   - nested: chapter 09's 4-wide packed node at the top, chapter 09's own walk at both levels,
+//     the one at the top calling the one below at each instance;
+//   - wide: the same trees, both levels in one loop (the default).
+enum class TopLayout { binary, nested, wide };
 template <Query kQuery, TopLayout kTop, class C = NoTwoLevelCounters>
 RT_HD InstanceHit trace_two_level(const TwoLevelView& scene, const RayF& ray,
                                   unsigned mask = 0xffffffffu, C&& counters = C{}) {
   if constexpr (kTop == TopLayout::wide)
+    return trace_instances_one_loop<kQuery>(scene, ray, mask, counters);
+  else if constexpr (kTop == TopLayout::nested)
     return trace_instances_wide<kQuery>(scene, ray, mask, counters);
   else
     return trace_instances<kQuery>(scene, ray, mask, counters);
+}
+
+// Calls f with the layout as a compile-time constant (std::integral_constant), so that the
+// kernel f launches is compiled for that walk.
+template <class F> void with_top_layout(TopLayout top, F&& f) {
+  using L = TopLayout;
+  if (top == L::wide)
+    f(std::integral_constant<L, L::wide>{});
+  else if (top == L::nested)
+    f(std::integral_constant<L, L::nested>{});
+  else
+    f(std::integral_constant<L, L::binary>{});
 }
 
 } // namespace rt::ch13

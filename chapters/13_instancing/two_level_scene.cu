@@ -116,7 +116,7 @@ struct TwoLevelScene::Arrays {
   Arrays(Backend b, int instances, int entries, TopLayout l)
       : backend(b), instance_count(instances), entry_count(entries), top(b, entries),
         layout(l) {
-    if (l == TopLayout::wide) wide_top.emplace(b, entries, 1); // leaves of one entry
+    if (l != TopLayout::binary) wide_top.emplace(b, entries, 1); // leaves of one entry
   }
 };
 
@@ -232,28 +232,22 @@ void trace_rays(const TwoLevelScene& scene, Query query, const RayF* rays, int c
                 InstanceHit* hits) {
   const Backend b = scene.backend();
   const TwoLevelView v = scene.view();
-  const bool wide = scene.top_layout() == TopLayout::wide;
-  if (query == Query::closest && wide)
-    for_each_index(b, count, TraceRays<Query::closest, TopLayout::wide>{v, rays, hits});
-  else if (query == Query::closest)
-    for_each_index(b, count, TraceRays<Query::closest, TopLayout::binary>{v, rays, hits});
-  else if (wide)
-    for_each_index(b, count, TraceRays<Query::any, TopLayout::wide>{v, rays, hits});
-  else
-    for_each_index(b, count, TraceRays<Query::any, TopLayout::binary>{v, rays, hits});
+  with_top_layout(scene.top_layout(), [&](auto top) {
+    if (query == Query::closest)
+      for_each_index(b, count, TraceRays<Query::closest, decltype(top)::value>{v, rays, hits});
+    else
+      for_each_index(b, count, TraceRays<Query::any, decltype(top)::value>{v, rays, hits});
+  });
 }
 
 void render_shaded(const TwoLevelScene& scene, const ch03::Camera<float>& camera, Extent extent,
                    Rgba8* pixels) {
   const int count = static_cast<int>(extent.pixel_count());
-  if (scene.top_layout() == TopLayout::wide)
+  with_top_layout(scene.top_layout(), [&](auto top) {
     for_each_index(scene.backend(), count,
-                   ShadePixels<TopLayout::wide>{scene.view(), scene.shade_view(), camera,
-                                                extent.width, pixels});
-  else
-    for_each_index(scene.backend(), count,
-                   ShadePixels<TopLayout::binary>{scene.view(), scene.shade_view(), camera,
-                                                  extent.width, pixels});
+                   ShadePixels<decltype(top)::value>{scene.view(), scene.shade_view(), camera,
+                                                     extent.width, pixels});
+  });
 }
 
 } // namespace rt::ch13

@@ -125,18 +125,22 @@ TEST_CASE("the wide top level: the GPU's hits and image are the CPU's, bit for b
           "[ch13][gpu][wide-top]") {
   // The top level collapsed to chapter 09's 4-wide node by chapter 10's parallel collapse, on
   // both backends, as built and after the trees have turned.
+  // Both of its walks: chapter 09's nested, and both levels in one loop.
   RT_REQUIRE_GPU();
   const Forest forest = icosphere_forest(300, 1330, 0.7);
   const BottomLevel bottom = build_bottom_level(forest.scene.meshes);
-  TwoLevelScene gpu(Backend::gpu, forest.scene, bottom, forest.spins, TopLayout::wide);
-  TwoLevelScene cpu(Backend::cpu, forest.scene, bottom, forest.spins, TopLayout::wide);
   std::vector<RayF> rays = rays_into_box(scene_box(forest.scene), 0.4, 20000, 1331);
   const Extent extent{96, 64};
   const ch03::Camera<float> camera = ch03::make_camera<float>(*forest.scene.camera, extent);
-  check_same_on_both(gpu, cpu, rays, camera, extent, "wide, as built");
-  gpu.move(1.5);
-  cpu.move(1.5);
-  check_same_on_both(gpu, cpu, rays, camera, extent, "wide, after move(1.5)");
+  for (const TopLayout top : {TopLayout::nested, TopLayout::wide}) {
+    TwoLevelScene gpu(Backend::gpu, forest.scene, bottom, forest.spins, top);
+    TwoLevelScene cpu(Backend::cpu, forest.scene, bottom, forest.spins, top);
+    const std::string name = top == TopLayout::wide ? "one loop" : "nested";
+    check_same_on_both(gpu, cpu, rays, camera, extent, (name + ", as built").c_str());
+    gpu.move(1.5);
+    cpu.move(1.5);
+    check_same_on_both(gpu, cpu, rays, camera, extent, (name + ", after move(1.5)").c_str());
+  }
 }
 
 TEST_CASE("paths through two levels: the GPU's radiance is the CPU's, bit for bit",
@@ -150,7 +154,7 @@ TEST_CASE("paths through two levels: the GPU's radiance is the CPU's, bit for bi
   const ch03::Camera<float> camera = ch03::make_camera<float>(*forest.scene.camera, extent);
   PathSettings settings;
   settings.samples = 8;
-  for (const TopLayout top : {TopLayout::binary, TopLayout::wide}) {
+  for (const TopLayout top : {TopLayout::binary, TopLayout::nested, TopLayout::wide}) {
     TwoLevelScene gpu(Backend::gpu, forest.scene, bottom, forest.spins, top);
     TwoLevelScene cpu(Backend::cpu, forest.scene, bottom, forest.spins, top);
     BackendArray<Vec3f> on_gpu(Backend::gpu, static_cast<std::size_t>(extent.pixel_count()));

@@ -946,25 +946,38 @@ nlohmann::json row_named(const nlohmann::json& report, const std::string& varian
 } // namespace
 
 TEST_CASE("the wide top level finds the binary top level's hits", "[ch13][wide-top]") {
-  // The same instances under chapter 07's binary walk and under chapter 09's 4-wide walk of the
-  // collapsed top level: the same closest hit (instance, triangle, t bit for bit; of two at
-  // exactly the same t either may be kept) and the same any-hit answer, as built and after
-  // move(); and a scene of one instance, whose collapsed top level is a single leaf.
+  // The same instances under chapter 07's binary walk, under chapter 09's 4-wide walk of the
+  // collapsed top level nested, and under the one loop of both levels: the same closest hit
+  // (instance, triangle, t bit for bit; of two at exactly the same t either may be kept) and
+  // the same any-hit answer, as built and after move(); and a scene of one instance, whose
+  // collapsed top level is a single leaf. The one loop visits what the nested walks visit, in
+  // their order: its hits are theirs in every bit, ties included, and so are its counts.
   const Forest forest = icosphere_forest(200, 1340, 0.8);
   const BottomLevel bottom = build_bottom_level(forest.scene.meshes);
   TwoLevelScene binary(Backend::cpu, forest.scene, bottom, forest.spins, TopLayout::binary);
+  TwoLevelScene nested(Backend::cpu, forest.scene, bottom, forest.spins, TopLayout::nested);
   TwoLevelScene wide(Backend::cpu, forest.scene, bottom, forest.spins, TopLayout::wide);
   const std::vector<RayF> rays = rays_into_box(scene_box(forest.scene), 0.3, 20000, 1341);
   for (const double seconds : {0.0, 2.5}) {
     binary.move(seconds);
+    nested.move(seconds);
     wide.move(seconds);
     const std::vector<InstanceHit> b = trace_all(binary, Query::closest, rays);
+    const std::vector<InstanceHit> n = trace_all(nested, Query::closest, rays);
     const std::vector<InstanceHit> w = trace_all(wide, Query::closest, rays);
     const std::vector<InstanceHit> b_any = trace_all(binary, Query::any, rays);
+    const std::vector<InstanceHit> n_any = trace_all(nested, Query::any, rays);
     const std::vector<InstanceHit> w_any = trace_all(wide, Query::any, rays);
     long long hits = 0, ties = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
       CAPTURE(seconds, i);
+      REQUIRE(n[i].instance == w[i].instance);
+      REQUIRE(n[i].triangle == w[i].triangle);
+      REQUIRE(same_bits(n[i].t, w[i].t));
+      REQUIRE(same_bits(n[i].u, w[i].u));
+      REQUIRE(same_bits(n[i].v, w[i].v));
+      REQUIRE(n_any[i].instance == w_any[i].instance);
+      REQUIRE(n_any[i].triangle == w_any[i].triangle);
       REQUIRE((b[i].instance < 0) == (w[i].instance < 0));
       REQUIRE((b_any[i].instance < 0) == (w_any[i].instance < 0));
       REQUIRE((b[i].instance < 0) == (b_any[i].instance < 0));
@@ -976,24 +989,72 @@ TEST_CASE("the wide top level finds the binary top level's hits", "[ch13][wide-t
     CAPTURE(hits, ties);
     CHECK(hits > 5000);
     CHECK(ties <= hits / 1000);
+    // the same work, counted: every node of both levels, every instance, every triangle
+    const TwoLevelView nv = nested.view(), wv = wide.view();
+    for (std::size_t i = 0; i < rays.size(); i += 7) {
+      TwoLevelCounters cn, cw;
+      trace_two_level<Query::closest, TopLayout::nested>(nv, rays[i], 0xffffffffu, cn);
+      trace_two_level<Query::closest, TopLayout::wide>(wv, rays[i], 0xffffffffu, cw);
+      CAPTURE(seconds, i);
+      REQUIRE(cn.top_nodes == cw.top_nodes);
+      REQUIRE(cn.instances == cw.instances);
+      REQUIRE(cn.bottom.nodes == cw.bottom.nodes);
+      REQUIRE(cn.bottom.triangles == cw.bottom.triangles);
+    }
   }
   InstanceScene one;
   one.meshes.push_back(ch04::make_icosphere(2, {0.0, 0.0, 0.0}, 1.0));
   one.placements.push_back({rotation({0.0, 1.0, 0.0}, 0.3), 0});
   const BottomLevel one_bottom = build_bottom_level(one.meshes);
   TwoLevelScene one_binary(Backend::cpu, one, one_bottom, {}, TopLayout::binary);
-  TwoLevelScene one_wide(Backend::cpu, one, one_bottom, {}, TopLayout::wide);
   const std::vector<RayF> one_rays = rays_into_box(scene_box(one), 0.5, 2000, 1342);
   const std::vector<InstanceHit> b = trace_all(one_binary, Query::closest, one_rays);
-  const std::vector<InstanceHit> w = trace_all(one_wide, Query::closest, one_rays);
-  long long one_hits = 0;
-  for (std::size_t i = 0; i < one_rays.size(); ++i) {
-    CAPTURE(i);
-    REQUIRE(b[i].triangle == w[i].triangle);
-    REQUIRE(same_bits(b[i].t, w[i].t));
-    one_hits += b[i].instance >= 0;
+  for (const TopLayout top : {TopLayout::nested, TopLayout::wide}) {
+    TwoLevelScene one_wide(Backend::cpu, one, one_bottom, {}, top);
+    const std::vector<InstanceHit> w = trace_all(one_wide, Query::closest, one_rays);
+    long long one_hits = 0;
+    for (std::size_t i = 0; i < one_rays.size(); ++i) {
+      CAPTURE(int(top), i);
+      REQUIRE(b[i].triangle == w[i].triangle);
+      REQUIRE(same_bits(b[i].t, w[i].t));
+      one_hits += b[i].instance >= 0;
+    }
+    CHECK(one_hits > 200);
   }
-  CHECK(one_hits > 200);
+}
+
+TEST_CASE("the one loop honours masks and answers any-hit queries at the first hit",
+          "[ch13][wide-top]") {
+  // Masks: instances of mask 1 and of mask 2 in one forest; a query for mask 2 must hit only
+  // instances of mask 2, and must hit exactly what the nested walk hits with the same mask.
+  Forest forest = icosphere_forest(120, 1343, 0.8);
+  for (std::size_t k = 0; k < forest.scene.placements.size(); ++k)
+    forest.scene.placements[k].mask = k % 2 == 0 ? 1u : 2u;
+  const BottomLevel bottom = build_bottom_level(forest.scene.meshes);
+  TwoLevelScene nested(Backend::cpu, forest.scene, bottom, {}, TopLayout::nested);
+  TwoLevelScene wide(Backend::cpu, forest.scene, bottom, {}, TopLayout::wide);
+  const TwoLevelView nv = nested.view(), wv = wide.view();
+  const std::vector<RayF> rays = rays_into_box(scene_box(forest.scene), 0.3, 5000, 1344);
+  long long hits_of_two = 0, hits_all = 0;
+  for (const RayF& ray : rays) {
+    const InstanceHit a = trace_two_level<Query::closest, TopLayout::wide>(wv, ray, 2u);
+    const InstanceHit b = trace_two_level<Query::closest, TopLayout::nested>(nv, ray, 2u);
+    const InstanceHit all = trace_two_level<Query::closest, TopLayout::wide>(wv, ray);
+    REQUIRE(a.instance == b.instance);
+    REQUIRE(a.triangle == b.triangle);
+    REQUIRE(same_bits(a.t, b.t));
+    if (a.instance >= 0) REQUIRE(a.instance % 2 == 1);
+    hits_of_two += a.instance >= 0;
+    hits_all += all.instance >= 0;
+    // any-hit: one loop and nested stop at the same first hit
+    const InstanceHit any_a = trace_two_level<Query::any, TopLayout::wide>(wv, ray);
+    const InstanceHit any_b = trace_two_level<Query::any, TopLayout::nested>(nv, ray);
+    REQUIRE(any_a.instance == any_b.instance);
+    REQUIRE(any_a.triangle == any_b.triangle);
+  }
+  CAPTURE(hits_of_two, hits_all);
+  CHECK(hits_of_two > 500);
+  CHECK(hits_all > hits_of_two);
 }
 
 TEST_CASE("paths through two levels: a white furnace of turned instances gives 1",
@@ -1011,7 +1072,7 @@ TEST_CASE("paths through two levels: a white furnace of turned instances gives 1
   PathSettings settings;
   settings.samples = 64;
   settings.white = true;
-  for (const TopLayout top : {TopLayout::binary, TopLayout::wide}) {
+  for (const TopLayout top : {TopLayout::binary, TopLayout::nested, TopLayout::wide}) {
     TwoLevelScene scene(Backend::cpu, forest.scene, bottom, forest.spins, top);
     for (const double seconds : {0.0, 1.3}) {
       scene.move(seconds);

@@ -201,6 +201,14 @@ if wanted window11 && [ $have_x = 1 ] && [ -x build/native/bin/ch11_path_tracing
       --frames 300 --width 1920 --height 1080 --json "$logdir/window11/window-ch13-forest.json" \
       --output "$logdir/window11/ch13-forest.png"
   fi
+  if [ -x build/native/bin/ch13_instancing ] && [ -f "$models/stanford-dragon.obj.gz" ]; then
+    # 10 000 turning dragons, primary and shadow rays through both levels, in the window
+    step window_ch13_dragons "${window_env[@]}" tools/window-test.sh --one "$logdir/window11" \
+      build/native/bin/ch13_instancing --window --backend gpu --instances 10000 --spin 0.5 \
+      --scene "$models/stanford-dragon.obj.gz" --frames 300 --width 1920 --height 1080 \
+      --json "$logdir/window11/window-ch13-dragons.json" \
+      --output "$logdir/window11/ch13-dragons.png"
+  fi
   grep -h -E "fps|frames|ms" "$logdir"/window_ch1*.log "$logdir"/moving_ch11*.log | head -60
 fi
 
@@ -272,19 +280,23 @@ if wanted bench12 && [ -x build/native/bin/ch12_materials ]; then
 fi
 if wanted bench13 && [ -x build/native/bin/ch13_instancing ]; then
   ch13=build/native/bin/ch13_instancing
-  args=(--backend gpu --headless --width 1920 --height 1080)
-  if [ -f "$models/stanford-dragon.obj.gz" ]; then
-    # 10 000 dragons (8.7 billion triangles as placed), still and turning; 16 of them against
-    # the same scene flattened into one tree.
-    step bench_ch13_forest "$ch13" "${args[@]}" --scene "$models/stanford-dragon.obj.gz" \
-      --instances 10000 --spin 0.5 --flat-limit 0 --json "$logdir/bench_ch13_forest.json" \
-      --output "$logdir/ch13_forest.png"
-    step bench_ch13_flat "$ch13" "${args[@]}" --scene "$models/stanford-dragon.obj.gz" \
-      --instances 16 --flat-limit 20000000 --json "$logdir/bench_ch13_flat.json" --output ""
-  fi
-  # A million instances of a 320-triangle sphere: the top level's build.
-  step bench_ch13_million "$ch13" "${args[@]}" --small --instances 1000000 --spin 0.5 \
-    --flat-limit 0 --json "$logdir/bench_ch13_million.json" --output "$logdir/ch13_million.png"
+  # Each top level and walk named in RT_CH13_TOPS (binary nested wide; default: all three).
+  for top in ${RT_CH13_TOPS:-binary nested wide}; do
+    args=(--backend gpu --headless --width 1920 --height 1080 --top "$top")
+    if [ -f "$models/stanford-dragon.obj.gz" ]; then
+      # 10 000 dragons (8.7 billion triangles as placed), still and turning; 16 of them against
+      # the same scene flattened into one tree.
+      step "bench_ch13_forest_$top" "$ch13" "${args[@]}" --scene "$models/stanford-dragon.obj.gz" \
+        --instances 10000 --spin 0.5 --flat-limit 0 --json "$logdir/bench_ch13_forest_$top.json" \
+        --output "$logdir/ch13_forest_$top.png"
+      step "bench_ch13_flat_$top" "$ch13" "${args[@]}" --scene "$models/stanford-dragon.obj.gz" \
+        --instances 16 --flat-limit 20000000 --json "$logdir/bench_ch13_flat_$top.json" --output ""
+    fi
+    # A million instances of a 320-triangle sphere: the top level's build.
+    step "bench_ch13_million_$top" "$ch13" "${args[@]}" --small --instances 1000000 --spin 0.5 \
+      --flat-limit 0 --json "$logdir/bench_ch13_million_$top.json" \
+      --output "$logdir/ch13_million_$top.png"
+  done
   cat "$logdir"/bench_ch13_*.log
 fi
 if wanted bench11 && [ -x build/native/bin/ch11_path_tracing ]; then
