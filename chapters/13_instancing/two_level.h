@@ -181,10 +181,9 @@ RT_HD InstanceHit trace_instances_wide(const TwoLevelView& scene, RayF ray,
 // Both levels in one loop. The walks above nest: at an instance the top level's loop stops and
 // the mesh's runs to its end. On the GPU the 32 rays of a warp run as one, so while some of
 // them are inside a dragon the others, still in the top level, wait for them; and the walk of
-// a warp is as long as the sum of its rays' two walks. Here, as in the hardware walks of
-// OptiX, DXR and Vulkan, there is one loop: the top level is a 4-wide packed tree like the
-// meshes' own, so a step is one node read whichever level the ray is in, and a warp's rays
-// step together, some at the top and some below.
+// a warp is as long as the sum of its rays' two walks. Here there is one loop: the top level
+// is a 4-wide packed tree like the meshes' own, so a step is one node read whichever level the
+// ray is in, and a warp's rays step together, some at the top and some below.
 //   - A top-level node read gives entries where a mesh's gives triangles. They wait in
 //     `entries` (the first slot of their leaves in the top's record array, and their bits) and
 //     are entered one by one.
