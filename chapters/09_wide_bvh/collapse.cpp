@@ -21,12 +21,25 @@ namespace {
 
 constexpr double k_inf = std::numeric_limits<double>::infinity();
 
+// Whether ids[k] is the first of its value in ids[first..k].
+bool first_in_range(const std::vector<int>& ids, int first, int k) {
+  for (int j = first; j < k; ++j)
+    if (ids[j] == ids[k]) return false;
+  return true;
+}
+
 // Chapter 07's tree as one entry per node and per leaf, parents before children. A subtree's
-// triangles are consecutive in chapter 07's leaf order: [first, first + count).
+// references are consecutive in chapter 07's leaf order: [first, first + count). Its box is
+// the one chapter 07 stored for it: for an sbvh tree the box of the clipped parts of its
+// triangles, which is all a ray must enter to reach those parts.
 struct Entry {
   Aabb box;
   int child[2] = {-1, -1}; // -1: a leaf
   int first = 0, count = 0;
+  // The mesh triangles among its references, if it could be a wide leaf (count <= 3): an sbvh
+  // subtree may hold one triangle in two of its leaves, and a wide leaf made of it holds
+  // that triangle once (its box holds both parts).
+  int distinct = 0;
   bool leaf() const { return child[0] < 0; }
 };
 
@@ -35,15 +48,23 @@ public:
   explicit Entries(const ch07::Bvh& bvh) {
     if (bvh.nodes.empty()) return;
     const ch07::BvhNode& root = bvh.nodes[0];
-    if (root.count[0] > 0 && root.count[1] == 0) { // the whole mesh in one leaf
+    if (root.count[0] > 0 && root.count[1] == 0) // the whole mesh in one leaf
       entries_.push_back({bvh.bounds, {-1, -1}, root.first[0], root.count[0]});
-      return;
-    }
-    add_node(bvh, 0, bvh.bounds);
+    else
+      add_node(bvh, 0, bvh.bounds);
+    for (Entry& e : entries_) e.distinct = distinct_triangles(bvh, e);
   }
   const std::vector<Entry>& all() const { return entries_; }
 
 private:
+  static int distinct_triangles(const ch07::Bvh& bvh, const Entry& e) {
+    if (e.count > k_max_leaf_triangles) return e.count;
+    int distinct = 0;
+    for (int k = e.first; k < e.first + e.count; ++k)
+      distinct += first_in_range(bvh.triangle_ids, e.first, k);
+    return distinct;
+  }
+
   int add_node(const ch07::Bvh& bvh, int node, const Aabb& box) {
     const int index = static_cast<int>(entries_.size());
     entries_.push_back({box});
@@ -121,7 +142,7 @@ private:
     const Entry& e = entries_[n];
     const double area = ch07::half_area_of(e.box);
     const double leaf =
-        e.count <= k_max_leaf_triangles ? area * e.count * k_triangle_cost : k_inf;
+        e.count <= k_max_leaf_triangles ? area * e.distinct * k_triangle_cost : k_inf;
     if (e.leaf()) {
       cost_[n].fill(leaf);
       as_leaf_[n] = true;
@@ -215,13 +236,14 @@ public:
       n.child_box[s] = e.box;
       if (p.leaf) {
         n.meta[s] =
-            leaf_meta(e.count, static_cast<int>(out_.triangles.size()) - n.triangle_base);
+            leaf_meta(e.distinct, static_cast<int>(out_.triangles.size()) - n.triangle_base);
         for (int k = e.first; k < e.first + e.count; ++k) {
+          if (!first_in_range(binary_.triangle_ids, e.first, k)) continue;
           out_.triangles.push_back(binary_.triangles[k]);
           out_.triangle_ids.push_back(binary_.triangle_ids[k]);
         }
         ++out_.stats.leaves;
-        sah_ += ch07::half_area_of(e.box) * e.count * k_triangle_cost;
+        sah_ += ch07::half_area_of(e.box) * e.distinct * k_triangle_cost;
       } else {
         n.meta[s] = interior_meta(s);
         n.imask = static_cast<std::uint8_t>(n.imask | (1u << s));
@@ -253,7 +275,6 @@ private:
 
 ch07::BuildOptions binary_options(Collapse collapse, const ch07::BuildOptions& base) {
   ch07::BuildOptions options = base;
-  options.method = ch07::SplitMethod::sah;
   options.max_leaf_size = collapse == Collapse::sah ? 1 : k_max_leaf_triangles;
   return options;
 }
@@ -265,6 +286,8 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method) {
                      std::to_string(width));
   WideLayout out;
   out.width = width;
+  out.stats.split = binary.options.method;
+  out.stats.triangles = binary.stats.triangles;
   const Entries entries(binary);
   const std::vector<Entry>& all = entries.all();
   for (const Entry& e : all)
@@ -290,6 +313,7 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method) {
     layout.emit(0, children_of(0), children_of, 0);
   }
   WideStats& s = out.stats;
+  s.references = static_cast<long long>(out.triangles.size());
   s.nodes = static_cast<int>(out.nodes.size());
   s.children_per_node = double(layout.children()) / double(s.nodes);
   s.triangles_per_leaf = double(out.triangles.size()) / double(std::max(1, s.leaves));

@@ -27,7 +27,7 @@ inline constexpr double k_triangle_cost = 0.3;
 // A wide node with its children in their octant slots, before it is stored in a layout.
 struct SlotNode {
   Aabb box;                        // the union of its children's boxes
-  Aabb child_box[k_slots];         // exact bounds of each slot's triangles; empty slot: empty
+  Aabb child_box[k_slots];         // the binary tree's box of each slot; empty slot: empty
   std::uint8_t meta[k_slots] = {}; // interior_meta / leaf_meta / 0 for an empty slot
   std::uint8_t imask = 0;          // bit s: slot s holds an interior child
   int child_base = 0;              // first interior child; the rest follow in slot order
@@ -38,18 +38,22 @@ struct SlotNode {
 struct WideLayout {
   int width = k_slots;
   std::vector<SlotNode> nodes;      // node 0 is the root; none for a mesh with no triangles
-  std::vector<TriangleF> triangles; // the mesh's triangles, in the order of the wide leaves
+  std::vector<TriangleF> triangles; // the leaves' references, in the order of the wide leaves
   std::vector<int> triangle_ids;    // the mesh's number of each
   WideStats stats;                  // bytes_per_triangle is the stored layout's: 0 here
 };
 
-// The binary tree each collapse starts from: chapter 07's SAH build with `base`'s bins, with
-// leaves of one triangle for the SAH collapse (which then chooses its leaves itself, as the
-// paper does), of up to k_max_leaf_triangles for the greedy one (its leaves are kept).
+// The binary tree each collapse starts from: chapter 07's build with `base`'s split method
+// (sah, or sbvh with its split budget) and bins, with leaves of one triangle for the SAH
+// collapse (which then chooses its leaves itself, as the paper does), of up to
+// k_max_leaf_triangles for the greedy one (its leaves are kept).
 ch07::BuildOptions binary_options(Collapse collapse, const ch07::BuildOptions& base);
 
 // `binary` collapsed into nodes of at most `width` (2..8) children. Throws InputError for a
-// width out of range or a binary leaf of more than k_max_leaf_triangles triangles.
+// width out of range or a binary leaf of more than k_max_leaf_triangles triangles. A wide
+// child's box is the binary tree's box of the entry it is made of, never recomputed from the
+// triangles: from an sbvh tree that is the clipped box, smaller than its triangles' boxes.
+// A wide leaf made of several binary leaves holds a triangle they share once.
 WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method);
 
 // The whole build from a mesh: chapter 07's binary tree, then the collapse; build_ms counts
@@ -90,8 +94,13 @@ Aabb child_box_of(const CompressedNode& node, int c);
 // containing the exact bounds of the triangles below it; child counts, meta bytes and imask
 // consistent; interior children where child_base and imask say; every node reached once;
 // depth within the traversal stack's bound. One line per problem; empty means valid.
+// A tree collapsed from an sbvh tree (`binary.method`) is checked as chapter 07 checks one:
+// every triangle in at least one leaf and never twice in one, at most (1 + split_budget) times
+// the triangles in all, and each reference's triangle meeting the boxes on its way from the
+// root (a leaf holds only the part of its triangle inside its box).
 template <class Node, class Triangles>
 std::vector<std::string> check_wide_tree(const WideTree<Node, Triangles>& tree,
-                                         const ch04::Mesh& mesh);
+                                         const ch04::Mesh& mesh,
+                                         const ch07::BuildOptions& binary = {});
 
 } // namespace rt::ch09

@@ -8,11 +8,13 @@
 //   --dump-hits FILE --ray-type T  the protocol's hits of one view through --tracer
 //   --benchmark [SCENE...]         every tracer on the benchmark set (default) or the scenes
 //   --heat-map                     the image shows the wide nodes each camera ray visits
+// --split sbvh builds every tree, the binary one included, with chapter 07's spatial splits.
 #include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "bvh_build.h"
 #include "camera_cli.h"
 #include "heat_map.h"
 #include "program.h"
@@ -33,6 +35,8 @@ using namespace rt::ch09;
 
 struct ChapterOptions : ch03::ProgramOptions {
   ch07::QueryOptions query;
+  ch07::BuildOptions
+      build; // --split and --split-budget: the binary tree every tree starts from
   std::optional<ChapterTracer> tracer; // --tracer: the one traced (queries) or measured
   long long reference_rays = ch07::k_protocol_reference_rays;
   bool skip_cpu = false;
@@ -51,6 +55,18 @@ const ch07::FlagModes k_chapter_flags[] = {
 // The error of a run in which a tree broke its rule.
 constexpr const char* k_disagreement =
     "a tree disagrees with chapter 07's hits beyond exact ties";
+
+// The split of the binary trees, for the report's title and context.
+std::string split_text(const ch07::BuildOptions& build) {
+  if (build.method != ch07::SplitMethod::sbvh) return "sah";
+  return "sbvh, references up to " + format_fixed(1.0 + build.split_budget, 2) +
+         " times the triangles";
+}
+
+void add_split_context(Report& report, const ch07::BuildOptions& build) {
+  report.add_context("wide trees",
+                     "collapsed from binary trees built with " + split_text(build));
+}
 
 // The tracers measured: the binary tree and --tracer, or every one.
 std::vector<ChapterTracer> measured(const ChapterOptions& options) {
@@ -86,9 +102,14 @@ void print_tables(const std::vector<ch07::SceneResult>& results,
 // build as a row.
 ch07::BenchmarkMode benchmark_mode(const ChapterOptions& options, Backend backend) {
   ch07::BenchmarkMode mode;
-  mode.title = "Chapter 09: wide trees on the benchmark protocol";
+  const bool spatial = options.build.method == ch07::SplitMethod::sbvh;
+  mode.title = std::string("Chapter 09: wide trees on the benchmark protocol") +
+               (spatial ? ", from spatial-split (sbvh) binary trees" : "");
   mode.reference = "chapter 07's hits up to exact ties; brute force on sampled rays";
   mode.runner.count_work = backend == Backend::cpu; // the CPU's work counters, on CPU runs only
+  mode.runner.build.method = options.build.method;
+  mode.runner.build.split_budget = options.build.split_budget;
+  mode.context = [&options](Report& report) { add_split_context(report, options.build); };
   mode.tracers = [&options](Report& report) {
     return std::vector<ch07::TracerMaker>{
         chapter_tracers(measured(options), build_rows(report))};
@@ -105,7 +126,7 @@ int run(ChapterOptions& options) {
     return ch07::run_benchmark_mode(benchmark_mode(options, backend), options.query, options,
                                     backend);
   if (options.query.query())
-    return ch07::run_query(options.query, options, backend, {},
+    return ch07::run_query(options.query, options, backend, options.build,
                            ch04::TriangleVariant::watertight,
                            chapter_tracers({options.tracer.value_or(ChapterTracer::cwbvh8)}));
 
@@ -114,8 +135,11 @@ int run(ChapterOptions& options) {
       ch06::load_framed_obj(options.query.scene_path, camera, options.common.extent(),
                             options.eye_given, options.target_given);
   ch03::validate_camera(camera);
+  const bool spatial = options.build.method == ch07::SplitMethod::sbvh;
   Report report = start_report(
-      "Chapter 09: a wide compressed tree for incoherent rays", "Mrays/s",
+      std::string("Chapter 09: a wide compressed tree for incoherent rays") +
+          (spatial ? ", from a spatial-split (sbvh) binary tree" : ""),
+      "Mrays/s",
       "chapter 07's hits up to exact ties; float64 brute force (CPU) on sampled rays", backend);
 
   // The image and the window: chapter 06's shading through the compressed tree.
@@ -126,6 +150,7 @@ int run(ChapterOptions& options) {
   ch07::RunnerOptions runner;
   runner.extent = options.common.extent();
   runner.backend = backend;
+  runner.build = options.build;
   runner.frames = options.common.frames;
   runner.reference_rays = options.reference_rays;
   runner.count_work = true; // run_scene_on_each counts on its CPU run alone
@@ -137,7 +162,9 @@ int run(ChapterOptions& options) {
       .render_with_radiance =
           [&](Backend b, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels,
               Vec3f* radiance) {
-            if (!tree) tree.emplace(compress(build_wide_layout(scene.mesh, 8, Collapse::sah)));
+            if (!tree)
+              tree.emplace(
+                  compress(build_wide_layout(scene.mesh, 8, Collapse::sah, options.build)));
             if (b == Backend::gpu && !d_scene) {
               d_scene.emplace(scene, features);
               d_tree.emplace(*tree);
@@ -158,6 +185,7 @@ int run(ChapterOptions& options) {
       .measure =
           [&](Report& rows) {
             ch07::add_runner_context(rows, runner);
+            add_split_context(rows, options.build);
             rows.add_context("scene", options.query.scene_path + ", " +
                                           group_digits(std::ssize(scene.mesh.triangles)) +
                                           " triangles");
@@ -189,6 +217,22 @@ int main(int argc, char** argv) {
          "queries' tree; the measurements then compare it with binary alone)")
       ->default_str("all (queries: cwbvh8)");
   ch07::add_reference_options(app, options.reference_rays, options.skip_cpu);
+  // Chapter 07's --split and --split-budget, less its median split: the collapse chooses the
+  // leaves itself (binary_options), so --leaf-size would do nothing here.
+  app.add_option_function<std::string>(
+         "--split",
+         [&](const std::string& text) {
+           options.build.method =
+               text == "sbvh" ? ch07::SplitMethod::sbvh : ch07::SplitMethod::sah;
+         },
+         "The binary tree every tree is built from, the wide ones collapsed from it: sah, or "
+         "sbvh (chapter 07's spatial splits: a triangle may be in several leaves)")
+      ->check(CLI::IsMember({"sah", "sbvh"}))
+      ->default_str("sah");
+  app.add_option("--split-budget", options.build.split_budget,
+                 "With --split sbvh: the references may grow to (1 + this) times the triangles")
+      ->check(CLI::Range(0.0, ch07::k_max_split_budget))
+      ->capture_default_str();
   app.add_flag("--heat-map", options.heat_map,
                "The image shows how many wide nodes each pixel's ray visits (chapter 07's "
                "colours: white at " +
@@ -196,6 +240,9 @@ int main(int argc, char** argv) {
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
     ch07::check_query_options(options.query, options, app, k_chapter_flags);
+    if (options.build.method != ch07::SplitMethod::sbvh && app.count("--split-budget") > 0)
+      throw UsageError("--split-budget goes with --split sbvh: only spatial splits copy "
+                       "references");
     if (options.heat_map && is_linear_image_path(options.common.output))
       throw UsageError("--heat-map draws node counts, not radiance: write it as a .png");
     return run(options);

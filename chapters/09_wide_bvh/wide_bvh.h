@@ -268,7 +268,12 @@ struct WideStats {
   double triangles_per_leaf = 0.0; // on average
   double sah_cost = 0.0;           // the collapse's cost model (collapse.h), over the root area
   double build_ms = 0.0;           // the binary build, the collapse, the stored layout
-  double bytes_per_triangle = 0.0; // nodes and triangle records over the triangle count
+  double bytes_per_triangle = 0.0; // nodes and triangle records over the mesh's triangles
+  // The binary tree it was collapsed from. Spatial splits (sbvh) reference a triangle from
+  // several leaves, so a tree may hold more triangle records than the mesh has triangles.
+  ch07::SplitMethod split = ch07::SplitMethod::sah;
+  long long triangles = 0;  // the mesh's
+  long long references = 0; // triangle records in the leaves: the triangles, unless sbvh
 };
 
 // A wide tree, owned in host memory.

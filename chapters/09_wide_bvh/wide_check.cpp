@@ -1,11 +1,14 @@
 // Chapter 09: the checker of a stored wide tree, read the way the traversal reads it. See
 // collapse.h.
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "collapse.h"
+#include "sbvh_build.h"
 
 namespace rt::ch09 {
 namespace {
@@ -31,13 +34,22 @@ private:
 
 template <class Node, class Triangles> class Checker {
 public:
-  Checker(const WideTree<Node, Triangles>& tree, const ch04::Mesh& mesh, Problems& problems)
-      : tree_(tree.view()), mesh_(mesh), problems_(problems), reached_(tree.nodes.size(), 0),
+  Checker(const WideTree<Node, Triangles>& tree, const ch04::Mesh& mesh,
+          const ch07::BuildOptions& binary, Problems& problems)
+      : tree_(tree.view()), mesh_(mesh), problems_(problems),
+        spatial_(binary.method == ch07::SplitMethod::sbvh), reached_(tree.nodes.size(), 0),
         record_uses_(tree.triangles.size() / Triangles::k_records, 0),
         id_uses_(mesh.triangles.size(), 0) {
-    if (tree.triangles.size() != mesh.triangles.size() * Triangles::k_records)
+    // Spatial splits reference a triangle from several leaves, within the budget chapter 07's
+    // checker allows; the other builds store each triangle exactly once.
+    const long long n = static_cast<long long>(mesh.triangles.size());
+    const long long most =
+        spatial_ ? n + static_cast<long long>(std::floor(binary.split_budget * double(n))) : n;
+    const long long records = static_cast<long long>(record_uses_.size());
+    if (tree.triangles.size() % Triangles::k_records != 0 || records < n || records > most)
       problems_.add(std::to_string(tree.triangles.size()) + " triangle records for " +
-                    std::to_string(mesh.triangles.size()) + " mesh triangles");
+                    std::to_string(n) + " mesh triangles" +
+                    (spatial_ ? " (more than the split budget allows)" : ""));
   }
 
   void run() {
@@ -47,7 +59,8 @@ public:
                     " triangles");
     if (tree_.node_count > 0) {
       reached_[0] = 1;
-      visit(0, 0);
+      constexpr float inf = std::numeric_limits<float>::infinity();
+      visit(0, 0, Aabb{{-inf, -inf, -inf}, {inf, inf, inf}}); // the root's box is not tested
     }
     long long unreached = 0, unused = 0, missing = 0;
     for (const unsigned char r : reached_) unreached += r == 0;
@@ -63,8 +76,9 @@ private:
     return "node " + std::to_string(node) + " child " + std::to_string(c);
   }
 
-  // The exact bounds of the triangles below `index`, checking its children on the way.
-  Aabb visit(int index, int depth) {
+  // The exact bounds of the triangles below `index`, checking its children on the way; for an
+  // sbvh tree, of the parts of them inside `reach`, the boxes a ray passed on its way here.
+  Aabb visit(int index, int depth, const Aabb& reach) {
     if (depth > k_wide_stack_size)
       problems_.add("node " + std::to_string(index) + " is at depth " + std::to_string(depth) +
                     ", beyond the stack's bound " + std::to_string(k_wide_stack_size));
@@ -100,7 +114,7 @@ private:
           continue;
         }
         reached_[child] = 1;
-        exact = visit(child, depth + 1);
+        exact = visit(child, depth + 1, ch07::intersection_of(reach, child_box_of(node, c)));
       } else {
         const unsigned count_bits = meta >> 5, offset = meta & 31u;
         const int count = count_bits == 1 ? 1 : count_bits == 3 ? 2 : count_bits == 7 ? 3 : 0;
@@ -111,9 +125,25 @@ private:
         const unsigned bits = count_bits << offset;
         if (triangle_bits & bits) problems_.add(name(index, c) + ": its triangles overlap");
         triangle_bits |= bits;
-        for (int k = node.triangle_base + int(offset);
-             k < node.triangle_base + int(offset) + count; ++k)
-          exact.grow(check_record(k, index, c));
+        const int first = node.triangle_base + int(offset);
+        for (int k = first; k < first + count; ++k) {
+          const Aabb own = check_record(k, index, c);
+          if (!spatial_) {
+            exact.grow(own);
+            continue;
+          }
+          // Chapter 07's rule for a spatial split's leaf: it holds only the part of its
+          // triangle inside its box, so the box must meet the triangle's, here together with
+          // every box above it (a ray reaches the leaf only through all of them).
+          const Aabb part =
+              ch07::intersection_of(ch07::intersection_of(reach, child_box_of(node, c)), own);
+          if (part.empty() && !own.empty())
+            problems_.add(name(index, c) +
+                          ": the boxes on its way do not meet triangle record " +
+                          std::to_string(k));
+          exact.grow(part);
+        }
+        check_once_in_leaf(first, count, index, c);
       }
       if (!child_box_of(node, c).contains(exact))
         problems_.add(name(index, c) + ": its box does not contain the triangles below it");
@@ -131,6 +161,16 @@ private:
   }
 
   static int bit_count_of(unsigned x) { return std::popcount(x); }
+
+  // No mesh triangle twice in one leaf: the traversal would test it twice for nothing.
+  void check_once_in_leaf(int first, int count, int node, int c) {
+    if (first < 0 || first + count > static_cast<int>(record_uses_.size())) return;
+    for (int k = first + 1; k < first + count; ++k)
+      for (int j = first; j < k; ++j)
+        if (tree_.triangle_id(j) == tree_.triangle_id(k))
+          problems_.add(name(node, c) + " holds mesh triangle " +
+                        std::to_string(tree_.triangle_id(k)) + " twice");
+  }
 
   // Triangle record k: in one leaf only, a mesh triangle's id, that triangle bit for bit.
   Aabb check_record(int k, int node, int c) {
@@ -150,7 +190,7 @@ private:
       problems_.add("triangle record " + std::to_string(k) + " has id " + std::to_string(id));
       return box;
     }
-    if (id_uses_[id]++ == 1)
+    if (id_uses_[id]++ == 1 && !spatial_)
       problems_.add("mesh triangle " + std::to_string(id) + " is in two leaves");
     const TriangleF original = mesh_.triangle(id);
     if (std::memcmp(&original, &t, sizeof t) != 0)
@@ -162,6 +202,7 @@ private:
   const WideTreeView<Node, Triangles> tree_;
   const ch04::Mesh& mesh_;
   Problems& problems_;
+  const bool spatial_; // from an sbvh tree: a triangle may be in several leaves
   std::vector<unsigned char> reached_;
   std::vector<int> record_uses_, id_uses_;
 };
@@ -170,15 +211,20 @@ private:
 
 template <class Node, class Triangles>
 std::vector<std::string> check_wide_tree(const WideTree<Node, Triangles>& tree,
-                                         const ch04::Mesh& mesh) {
+                                         const ch04::Mesh& mesh,
+                                         const ch07::BuildOptions& binary) {
   Problems problems;
-  Checker<Node, Triangles>(tree, mesh, problems).run();
+  Checker<Node, Triangles>(tree, mesh, binary, problems).run();
   return problems.finish();
 }
 
-template std::vector<std::string> check_wide_tree(const Wide4Bvh&, const ch04::Mesh&);
-template std::vector<std::string> check_wide_tree(const Wide8Bvh&, const ch04::Mesh&);
-template std::vector<std::string> check_wide_tree(const CompressedBvh&, const ch04::Mesh&);
-template std::vector<std::string> check_wide_tree(const Wide4PackedBvh&, const ch04::Mesh&);
+template std::vector<std::string> check_wide_tree(const Wide4Bvh&, const ch04::Mesh&,
+                                                  const ch07::BuildOptions&);
+template std::vector<std::string> check_wide_tree(const Wide8Bvh&, const ch04::Mesh&,
+                                                  const ch07::BuildOptions&);
+template std::vector<std::string> check_wide_tree(const CompressedBvh&, const ch04::Mesh&,
+                                                  const ch07::BuildOptions&);
+template std::vector<std::string> check_wide_tree(const Wide4PackedBvh&, const ch04::Mesh&,
+                                                  const ch07::BuildOptions&);
 
 } // namespace rt::ch09

@@ -32,10 +32,13 @@ void finish(WideTree<Node, Triangles>& tree, const WideLayout& layout,
   tree.stats.build_ms +=
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
           .count();
+  // Per triangle of the mesh: an sbvh tree's extra references are memory it pays for.
+  const double triangles = layout.stats.triangles > 0 ? double(layout.stats.triangles)
+                                                      : double(layout.triangles.size());
   if (!layout.triangles.empty())
     tree.stats.bytes_per_triangle = double(tree.nodes.size() * sizeof(Node) +
                                            tree.triangles.size() * sizeof(tree.triangles[0])) /
-                                    double(layout.triangles.size());
+                                    triangles;
 }
 
 // The non-empty slots of a node, in slot order: the positions its children take in a stored

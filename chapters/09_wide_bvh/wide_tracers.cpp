@@ -250,21 +250,30 @@ ch07::TracerMaker chapter_tracers(std::vector<ChapterTracer> tracers, BuildSink 
 }
 
 ReportRow build_row(const std::string& scene, const std::string& tracer, const WideStats& s) {
-  return {scene + ", build " + tracer + " (CPU)",
-          "cpu",
-          s.build_ms,
-          0.0,
-          group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) + ", " +
-              format_fixed(s.children_per_node, 1) + " children per node, " +
-              format_fixed(s.triangles_per_leaf, 2) + " triangles per leaf, SAH cost " +
-              format_fixed(s.sah_cost, 1) + ", " + format_fixed(s.bytes_per_triangle, 1) +
-              " B/triangle",
-          {{"nodes", double(s.nodes)},
-           {"depth", double(s.depth)},
-           {"children_per_node", s.children_per_node},
-           {"triangles_per_leaf", s.triangles_per_leaf},
-           {"sah_cost", s.sah_cost},
-           {"bytes_per_triangle", s.bytes_per_triangle}}};
+  const bool spatial = s.split == ch07::SplitMethod::sbvh;
+  const double references_per_triangle =
+      s.triangles > 0 ? double(s.references) / double(s.triangles) : 1.0;
+  ReportRow row{scene + ", build " + tracer + (spatial ? " from sbvh" : "") + " (CPU)",
+                "cpu",
+                s.build_ms,
+                0.0,
+                group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) + ", " +
+                    format_fixed(s.children_per_node, 1) + " children per node, " +
+                    format_fixed(s.triangles_per_leaf, 2) + " triangles per leaf, SAH cost " +
+                    format_fixed(s.sah_cost, 1) + ", " + format_fixed(s.bytes_per_triangle, 1) +
+                    " B/triangle" +
+                    (spatial ? ", " + format_fixed(references_per_triangle, 3) +
+                                   " references per triangle"
+                             : ""),
+                {{"nodes", double(s.nodes)},
+                 {"depth", double(s.depth)},
+                 {"children_per_node", s.children_per_node},
+                 {"triangles_per_leaf", s.triangles_per_leaf},
+                 {"sah_cost", s.sah_cost},
+                 {"bytes_per_triangle", s.bytes_per_triangle}}};
+  // An sbvh tree's bytes per triangle include its extra references: say how many.
+  if (spatial) row.metrics.emplace_back("references_per_triangle", references_per_triangle);
+  return row;
 }
 
 std::string memory_table(const std::vector<ch07::SceneResult>& results) {
