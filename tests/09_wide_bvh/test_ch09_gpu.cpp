@@ -1,12 +1,14 @@
 // Chapter 09 tests on the GPU: every wide tree's kernel gives the CPU traversal's hits bit for
 // bit (the same RT_HD code, and dequantise rounds the same on both), for closest and any hits,
 // and so do the three traversal variants of wide4 packed (shared stack, persistent threads,
-// sorted rays); the shaded frame through the compressed tree is the CPU's.
+// sorted rays); so do the trees collapsed from spatial-split (sbvh) binary trees; the shaded
+// frame through the compressed tree is the CPU's.
 #include <cstring>
 #include <vector>
 
 #include "rt_catch.h"
 
+#include "07_bvh/sbvh_cases.h"
 #include "gpu_guard.h"
 #include "rt/device_buffer.h"
 #include "shaded_render.h"
@@ -119,6 +121,34 @@ TEST_CASE("gpu: every wide tree gives the CPU's hits bit for bit", "[ch09][gpu]"
     }
   }
   CHECK(wide_kernel_registers<CompressedBvh::View>(Query::closest) > 0);
+}
+
+TEST_CASE("gpu: wide trees from sbvh trees give the CPU's hits bit for bit", "[ch09][gpu]") {
+  RT_REQUIRE_GPU();
+  using View = Wide4PackedBvh::View;
+  ch07::BuildOptions options;
+  options.method = ch07::SplitMethod::sbvh;
+  options.split_budget = 1.0;
+  for (const float offset : {0.0f, 1e5f}) {
+    const Vec3f centre{offset, offset, -offset};
+    Mesh slivers = rt::testing::long_slivers(3000, 45);
+    for (Vec3f& v : slivers.vertices) v = v + centre;
+    for (const Mesh& scene : {mixed_scene(3000, 46, centre), slivers}) {
+      const std::vector<RayF> rays = rays_for(scene, 20000, 47, centre);
+      const WideLayout four = build_wide_layout(scene, 4, Collapse::sah, options);
+      const WideLayout eight = build_wide_layout(scene, 8, Collapse::sah, options);
+      const Wide4PackedBvh packed = pack_wide<4, PackedTriangles>(four);
+      REQUIRE(check_wide_tree(packed, scene, options).empty());
+      CHECK(four.stats.references > static_cast<long long>(scene.triangles.size()));
+      for (const Query query : {Query::closest, Query::any}) {
+        CAPTURE(offset, scene.triangles.size(), ch07::to_string(query));
+        CHECK(gpu_cpu_differences(packed, rays, query) == 0);
+        CHECK(variant_differences(packed, rays, query, trace_wide_gpu_shared_stack<View>) == 0);
+        CHECK(gpu_cpu_differences(pack_wide<8>(eight), rays, query) == 0);
+        CHECK(gpu_cpu_differences(compress(eight), rays, query) == 0);
+      }
+    }
+  }
 }
 
 TEST_CASE("gpu: the shaded frame through the compressed tree is the CPU's", "[ch09][gpu]") {
