@@ -218,7 +218,24 @@ RT_HD InstanceHit trace_instances_one_loop(const TwoLevelView& scene, const RayF
   int stack_size = 0;
   NodeGroup group{0, (1u << (24 + r.octant_inverse)) | 1u};
   for (;;) {
-    if (entries != 0) { // enter the next waiting entry's instance
+    // Every trip reads one node. Where nothing is left to read here, the stack says where
+    // to go; the marker sends the ray back to the top, to the entries that still wait.
+    while ((group.hits & ch09::k_child_bits) == 0 && entries == 0) {
+      if (stack_size == 0) return best;
+      group = stack.load(--stack_size);
+      if (group.base < 0) {
+        const float tmax = ray.tmax;
+        ray = world;
+        ray.tmax = tmax;
+        r = ch09::make_traversal_ray(ray);
+        tree = scene.top_wide;
+        instance = -1;
+        entries_base = ~group.base;
+        entries = group.hits;
+        group = {0, 0u};
+      }
+    }
+    if (entries != 0) { // into the next waiting entry's instance; its root is the node read
       const int slot = entries_base + ch09::lowest_bit(entries);
       entries &= entries - 1;
       const TopEntry e = scene.entries[scene.top_wide.triangle_id(slot)];
@@ -235,22 +252,6 @@ RT_HD InstanceHit trace_instances_one_loop(const TwoLevelView& scene, const RayF
       intersect = ch09::WatertightTest(ray);
       group = {e.node, (1u << (24 + r.octant_inverse)) | 1u};
     }
-    if ((group.hits & ch09::k_child_bits) == 0) {
-      if (stack_size == 0) return best;
-      group = stack.load(--stack_size);
-      if (group.base < 0) { // the marker: back to the top, to its waiting entries
-        const float tmax = ray.tmax;
-        ray = world;
-        ray.tmax = tmax;
-        r = ch09::make_traversal_ray(ray);
-        tree = scene.top_wide;
-        instance = -1;
-        entries_base = ~group.base;
-        entries = group.hits;
-        group = {0, 0u};
-        continue;
-      }
-    }
     // chapter 09's step: the group's next child read, the rest of the group pushed
     const int bit = ch09::highest_bit(group.hits);
     group.hits &= ~(1u << bit);
@@ -260,7 +261,7 @@ RT_HD InstanceHit trace_instances_one_loop(const TwoLevelView& scene, const RayF
     instance < 0 ? counters.top_node() : counters.bottom.node();
     const ch09::NodeHits h = ch09::intersect_node(tree.node(node), r, ray.tmin, ray.tmax);
     group = {h.child_base, h.children};
-    if (instance < 0) {
+    if (instance < 0) { // entries wait; the next trip enters the first
       entries_base = h.triangle_base;
       entries = h.triangles;
       continue;

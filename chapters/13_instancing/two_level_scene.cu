@@ -2,6 +2,7 @@
 // two_level_scene.h.
 #include "two_level_scene.h"
 
+#include <cstdlib>
 #include <optional>
 
 #include "gpu_build.h"
@@ -45,6 +46,47 @@ struct BoxEntries {
   }
 };
 // [/listing:move_instances]
+
+// The walks' kernels: for_each_index's, with a register budget. The two-level walk keeps two
+// walks' state (79 registers nested, 74 in one loop), so only 24 warps fit on a multiprocessor
+// where chapter 09's one-tree walk, at 56, fits 36, and a walk waits on memory most of its
+// time. __launch_bounds__(256, k) asks the compiler for at most 65 536 / (256 k) registers.
+// RT_CH13_MIN_BLOCKS picks k for the measurement (1: no bound).
+constexpr int k_walk_block = 256;
+template <int kMinBlocks, class Fn>
+__global__ void __launch_bounds__(k_walk_block, kMinBlocks) walk_kernel(int count, Fn fn) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < count) fn(i);
+}
+int walk_min_blocks() {
+  static const int k = [] {
+    const char* text = std::getenv("RT_CH13_MIN_BLOCKS");
+    return text != nullptr ? std::atoi(text) : 1;
+  }();
+  return k;
+}
+template <class Fn> void for_each_ray(Backend backend, int count, Fn fn) {
+  if (backend != Backend::gpu || count <= 0) {
+    for_each_index(backend, count, fn);
+    return;
+  }
+  const int blocks = blocks_to_cover(count, k_walk_block);
+  switch (walk_min_blocks()) {
+  case 4:
+    walk_kernel<4><<<blocks, k_walk_block>>>(count, fn);
+    break;
+  case 5:
+    walk_kernel<5><<<blocks, k_walk_block>>>(count, fn);
+    break;
+  case 6:
+    walk_kernel<6><<<blocks, k_walk_block>>>(count, fn);
+    break;
+  default:
+    walk_kernel<1><<<blocks, k_walk_block>>>(count, fn);
+    break;
+  }
+  RT_CUDA_CHECK_LAUNCH("walk_kernel");
+}
 
 template <Query kQuery, TopLayout kTop> struct TraceRays {
   TwoLevelView scene;
@@ -234,9 +276,9 @@ void trace_rays(const TwoLevelScene& scene, Query query, const RayF* rays, int c
   const TwoLevelView v = scene.view();
   with_top_layout(scene.top_layout(), [&](auto top) {
     if (query == Query::closest)
-      for_each_index(b, count, TraceRays<Query::closest, decltype(top)::value>{v, rays, hits});
+      for_each_ray(b, count, TraceRays<Query::closest, decltype(top)::value>{v, rays, hits});
     else
-      for_each_index(b, count, TraceRays<Query::any, decltype(top)::value>{v, rays, hits});
+      for_each_ray(b, count, TraceRays<Query::any, decltype(top)::value>{v, rays, hits});
   });
 }
 
@@ -244,9 +286,9 @@ void render_shaded(const TwoLevelScene& scene, const ch03::Camera<float>& camera
                    Rgba8* pixels) {
   const int count = static_cast<int>(extent.pixel_count());
   with_top_layout(scene.top_layout(), [&](auto top) {
-    for_each_index(scene.backend(), count,
-                   ShadePixels<decltype(top)::value>{scene.view(), scene.shade_view(), camera,
-                                                     extent.width, pixels});
+    for_each_ray(scene.backend(), count,
+                 ShadePixels<decltype(top)::value>{scene.view(), scene.shade_view(), camera,
+                                                   extent.width, pixels});
   });
 }
 
