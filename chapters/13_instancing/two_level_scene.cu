@@ -53,7 +53,7 @@ struct BoxEntries {
 // waits on memory most of its time. __launch_bounds__(256, 4) asks the compiler to fit four
 // blocks of 256 threads, so at most 64 registers: 32 warps. Measured on an H200 (appendix
 // C4): up to 11% faster than no bound (one row 1% slower); 48 registers (five blocks) spill the
-// one loop's state to local memory and cost it 30%.
+// one loop's state to local memory and cost it 26 to 47%.
 constexpr int k_walk_block = 256;
 constexpr int k_walk_min_blocks = 4;
 template <class Fn>
