@@ -65,9 +65,7 @@ void check_chapter_flags(const ChapterOptions& options, const CLI::App& app) {
       mode != ProgramMode::report)
     throw UsageError("--bins does nothing with --split median, which cuts at the median "
                      "without bins");
-  if (options.build.method != SplitMethod::sbvh && app.count("--split-budget") > 0)
-    throw UsageError("--split-budget goes with --split sbvh: only spatial splits copy "
-                     "references");
+  check_split_budget(options.build, app);
   for (const char* flag : {"--shading", "--shadows"})
     if (options.heat_map && app.count(flag) > 0 && mode != ProgramMode::report)
       throw UsageError(std::string(flag) +

@@ -258,10 +258,20 @@ void add_build_options(CLI::App& app, BuildOptions& build) {
   app.add_option("--bins", build.bins, "SAH bins per axis")
       ->check(CLI::Range(2, 256))
       ->capture_default_str();
+  add_split_budget_option(app, build);
+}
+
+void add_split_budget_option(CLI::App& app, BuildOptions& build) {
   app.add_option("--split-budget", build.split_budget,
                  "With --split sbvh: the references may grow to (1 + this) times the triangles")
       ->check(CLI::Range(0.0, k_max_split_budget))
       ->capture_default_str();
+}
+
+void check_split_budget(const BuildOptions& build, const CLI::App& app) {
+  if (build.method != SplitMethod::sbvh && app.count("--split-budget") > 0)
+    throw UsageError("--split-budget goes with --split sbvh: only spatial splits copy "
+                     "references");
 }
 
 ProgramMode program_mode(const QueryOptions& q, const ch03::ProgramOptions& p) {

@@ -54,6 +54,10 @@ void add_reference_options(CLI::App& app, long long& reference_rays, bool& skip_
 // Adds --split, --leaf-size and --bins: how chapter 07's tree is built (for the image, the
 // queries and the benchmark; later chapters build from it).
 void add_build_options(CLI::App& app, BuildOptions& build);
+// --split-budget alone (add_build_options includes it), and its check: refused without
+// --split sbvh, in one line.
+void add_split_budget_option(CLI::App& app, BuildOptions& build);
+void check_split_budget(const BuildOptions& build, const CLI::App& app);
 
 // What a program with a tree does with its command line: one mode, picked by its flags.
 enum class ProgramMode {

@@ -229,10 +229,7 @@ int main(int argc, char** argv) {
          "sbvh (chapter 07's spatial splits: a triangle may be in several leaves)")
       ->check(CLI::IsMember({"sah", "sbvh"}))
       ->default_str("sah");
-  app.add_option("--split-budget", options.build.split_budget,
-                 "With --split sbvh: the references may grow to (1 + this) times the triangles")
-      ->check(CLI::Range(0.0, ch07::k_max_split_budget))
-      ->capture_default_str();
+  ch07::add_split_budget_option(app, options.build);
   app.add_flag("--heat-map", options.heat_map,
                "The image shows how many wide nodes each pixel's ray visits (chapter 07's "
                "colours: white at " +
@@ -240,9 +237,7 @@ int main(int argc, char** argv) {
   ch03::add_image_only_option(app, options);
   return ch03::run_program_main(app, argc, argv, options, [&] {
     ch07::check_query_options(options.query, options, app, k_chapter_flags);
-    if (options.build.method != ch07::SplitMethod::sbvh && app.count("--split-budget") > 0)
-      throw UsageError("--split-budget goes with --split sbvh: only spatial splits copy "
-                       "references");
+    ch07::check_split_budget(options.build, app);
     if (options.heat_map && is_linear_image_path(options.common.output))
       throw UsageError("--heat-map draws node counts, not radiance: write it as a .png");
     return run(options);
