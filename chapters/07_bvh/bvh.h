@@ -120,6 +120,9 @@ struct BuildOptions {
   int bins = 16;         // SAH candidate planes per axis are bins - 1; 2..256
   // sbvh only: the references may grow to (1 + split_budget) times the triangles; 0..4.
   double split_budget = 0.3;
+  // Threads of the median and sah builds (sbvh builds on one); 0: the CPU backend's,
+  // cpu_thread_count(). The tree is the same, bit for bit, for every count.
+  int threads = 0;
 };
 
 // What the build report prints.

@@ -30,8 +30,12 @@ static_assert(halving_levels(k_max_bvh_triangles, 1) <= k_max_bvh_depth - 1,
 // The most split_budget accepts: (1 + 4) << 28 references still fit an int.
 inline constexpr double k_max_split_budget = 4.0;
 
+// The most threads a build takes (as many as the CPU backend ever uses).
+inline constexpr int k_max_build_threads = 1024;
+
 // Throws rt::InputError, one line naming the option, unless 1 <= max_leaf_size <=
-// k_max_leaf_size, 2 <= bins <= 256 and 0 <= split_budget <= k_max_split_budget.
+// k_max_leaf_size, 2 <= bins <= 256, 0 <= split_budget <= k_max_split_budget and
+// 0 <= threads <= k_max_build_threads.
 void check_build_options(const BuildOptions& options);
 
 // Throws rt::InputError for more than k_max_bvh_triangles triangles, and, naming the triangle,
@@ -42,8 +46,9 @@ void check_build_input(const ch04::Mesh& mesh);
 // Builds the tree over every triangle of `mesh`. Throws rt::InputError for bad options, for
 // more than k_max_bvh_triangles triangles, and for a triangle with a vertex index out of range
 // or a vertex that is not finite (the message names the triangle). A mesh with no triangles
-// gives a tree with no nodes. Single-threaded and deterministic: the same mesh and options
-// always give the same arrays, bit for bit.
+// gives a tree with no nodes. Deterministic: the same mesh and options always give the same
+// arrays, bit for bit, whatever options.threads is (median and sah build on that many threads,
+// sbvh on one).
 Bvh build_bvh(const ch04::Mesh& mesh, const BuildOptions& options);
 
 // The surface area heuristic's cost of a finished tree: the expected number of node visits
