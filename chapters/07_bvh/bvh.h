@@ -137,6 +137,7 @@ struct BuildStats {
   long long triangles = 0;         // the mesh's
   long long references = 0;        // triangle copies in leaves: the triangles, unless sbvh
   int spatial_splits = 0;          // sbvh: nodes split by a plane rather than by objects
+  int threads = 1;                 // threads the build ran on (sbvh, and small meshes: 1)
 };
 
 // A built tree, owned in host memory.

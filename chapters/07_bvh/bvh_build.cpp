@@ -19,6 +19,7 @@
 #include "rt/backend.h"
 #include "rt/cpu_progress.h"
 #include "rt/error.h"
+#include "rt/launch.h"
 #include "sbvh_build.h"
 
 namespace rt::ch07 {
@@ -266,6 +267,7 @@ public:
     }
     build_subtrees();
     bvh.stats = std::move(top.fragment().stats);
+    bvh.stats.threads = team_ ? team_->size() : 1;
     for (const Subtree& s : subtrees_) add_stats(bvh.stats, s.fragment.stats);
     bvh.nodes = splice(top.fragment().nodes);
     bvh.triangle_ids.resize(n);
@@ -774,8 +776,13 @@ Bvh build_bvh(const ch04::Mesh& mesh, const BuildOptions& options) {
   } else {
     Builder(mesh, options, threads).build(bvh);
   }
-  bvh.triangles.reserve(bvh.triangle_ids.size());
-  for (const int id : bvh.triangle_ids) bvh.triangles.push_back(mesh.triangle(id));
+  // The triangles copied into leaf order: a gather from all over the mesh, shared by the
+  // threads. Each copy has its own place, so the array is the same for any count.
+  bvh.triangles.resize(bvh.triangle_ids.size());
+  for_each_index_cpu(
+      bvh.triangles.size(),
+      [&](std::size_t k) { bvh.triangles[k] = mesh.triangle(bvh.triangle_ids[k]); }, threads,
+      "triangles");
   bvh.stats.sah_cost = sah_cost(bvh);
   if (triangle_count > 0) {
     const double bytes =

@@ -4,8 +4,19 @@
 //
 //   ch07_embree_compare [--width W --height H] [--threads N] [--runs N] [--json FILE]
 //                       [--robust] [--backend cpu] SCENE...
+#include <string>
+
 #include "embree_comparison.h"
 #include "rt/report.h"
+
+namespace {
+
+// The build's own thread count (bvh_build.h): the CPU backend's, as Embree's build gets.
+std::string build_label(int threads) {
+  return "binned SAH, " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
   using namespace rt::ch07;
@@ -19,7 +30,7 @@ int main(int argc, char** argv) {
           [](const std::string&, const TracerScene& scene) {
             return OursOnScene{.tracer = chapter07_tracers(scene).at(0),
                                .build_ms = scene.bvh.stats.build_ms,
-                               .build = "binned SAH, 1 thread",
+                               .build = build_label(scene.bvh.stats.threads),
                                .cost =
                                    "SAH cost " + rt::format_fixed(scene.bvh.stats.sah_cost, 1)};
           },

@@ -189,3 +189,17 @@ TEST_CASE("a thread count out of range is an input error naming it", "[ch07][par
   options.threads = k_max_build_threads;
   CHECK(build_bvh(mesh, options).triangle_ids.size() == 10);
 }
+
+TEST_CASE("the stats say how many threads built the tree", "[ch07][parallel-build]") {
+  const ch04::Mesh large = rt::testing::random_soup(20000, 79);
+  for (const int threads : {1, 2, 3}) {
+    BuildOptions options;
+    options.threads = threads;
+    CHECK(build_bvh(large, options).stats.threads == threads);
+    options.method = SplitMethod::sbvh; // spatial splits build on one thread
+    CHECK(build_bvh(large, options).stats.threads == 1);
+  }
+  BuildOptions options;
+  options.threads = 8;
+  CHECK(build_bvh(rt::testing::random_soup(100, 80), options).stats.threads == 1); // too small
+}
