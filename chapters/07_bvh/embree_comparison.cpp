@@ -25,6 +25,7 @@
 #include "bvh_trace.h"
 #include "obj_loader.h"
 #include "protocol.h"
+#include "query_modes.h"
 #include "rt/backend.h"
 #include "rt/cli.h"
 #include "rt/error.h"
@@ -46,6 +47,7 @@ struct CompareOptions {
   std::string json;                 // also write the rows as JSON here; empty: don't
   std::vector<std::string> scenes;  // OBJ files (plain or gzip'd)
   bool robust = false;              // Embree's robust mode (RTC_SCENE_FLAG_ROBUST)
+  BuildOptions build;               // our binary tree's: the SAH, or spatial splits (--split)
 };
 
 std::string joined(const std::vector<std::string>& names) {
@@ -357,7 +359,7 @@ SceneComparison compare_scene(const std::string& path, const CompareOptions& o,
   out.triangles = static_cast<long long>(mesh.triangles.size());
 
   // Chapter 07's SAH tree frames the protocol's camera; the program's tracer may read it too.
-  const Bvh bvh = build_bvh(mesh, BuildOptions{});
+  const Bvh bvh = build_bvh(mesh, o.build);
   const ProtocolView view = protocol_view(path, bvh.bounds);
   const PinholeCamera camera = make_protocol_camera(view, o.width, o.height);
   const float radius = scene_radius(bvh.bounds);
@@ -484,18 +486,34 @@ int run_embree_compare(int argc, char** argv, const EmbreeCompareProgram& progra
       ->capture_default_str();
   app.add_flag("--robust", options.robust,
                "Embree's robust mode: its watertight triangle test, no fast-but-inexact steps");
+  // Embree's high-quality build splits triangles (spatial splits); ours may too.
+  app.add_option_function<std::string>(
+         "--split",
+         [&options](const std::string& text) {
+           options.build.method = text == "sbvh" ? SplitMethod::sbvh : SplitMethod::sah;
+         },
+         "How our binary tree is built: the binned SAH, or with spatial splits (sbvh)")
+      ->check(CLI::IsMember({"sah", "sbvh"}))
+      ->default_str("sah");
+  add_split_budget_option(app, options.build);
   app.add_option("scenes", options.scenes, "OBJ files (plain or gzip'd)")
       ->required()
       ->check(CLI::ExistingFile);
   return run_main(app, argc, argv, [&] {
     check_tracer(options.tracer, program);
     check_threads(options.threads);
+    check_split_budget(options.build, app);
     // A report that cannot be written is refused before the comparison, not after it.
     if (!options.json.empty()) check_report_path(options.json);
     Report report(program.report_title + " " RTC_VERSION_STRING, "Mrays/s", "Embree");
     report.add_context("resolution",
                        std::to_string(options.width) + "x" + std::to_string(options.height));
     report.add_context("ours", options.tracer);
+    report.add_context("our split",
+                       to_string(options.build.method) +
+                           (options.build.method == SplitMethod::sbvh
+                                ? ", budget " + format_fixed(options.build.split_budget, 2)
+                                : std::string()));
     report.add_context("threads", threads_text(options.threads) +
                                       " for both: ours the CPU backend's (RT_CPU_THREADS, "
                                       "else the hardware's), Embree as many, its build too");

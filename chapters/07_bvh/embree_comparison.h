@@ -34,9 +34,9 @@ struct EmbreeCompareProgram {
 };
 
 // The whole program: its options (--width, --height, --runs, --tracer, --threads, --robust,
-// --json, scenes), then for each scene both builds, the protocol's primary, ao and diffuse rays
-// through both, timed turn about, one Markdown table each. Returns the exit code; an error is
-// one line (run_main).
+// --split, --split-budget, --json, scenes), then for each scene both builds, the protocol's
+// primary, ao and diffuse rays through both, timed turn about, one Markdown table each. Returns
+// the exit code; an error is one line (run_main).
 int run_embree_compare(int argc, char** argv, const EmbreeCompareProgram& program);
 
 } // namespace rt::ch07

@@ -1,14 +1,46 @@
 // Chapter 09: a collapsed tree stored as the traversal reads it: plain wide nodes, or
 // compressed nodes with their boxes quantised outward. See collapse.h.
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 
 #include "collapse.h"
+#include "cpu_tree.h"
 #include "rt/error.h"
 
 namespace rt::ch09 {
 namespace {
+
+// The layout's triangles as nine columns (v0.x v0.y v0.z v1.x ... v2.z), padded so that a
+// read of eight from any triangle stays inside; returns the column stride.
+int write_columns(const WideLayout& layout, std::vector<float>& columns) {
+  const int count = static_cast<int>(layout.triangles.size());
+  const int stride = (count + 2 * 8 - 1) / 8 * 8;
+  columns.assign(9 * static_cast<std::size_t>(stride), 0.0f);
+  for (int k = 0; k < count; ++k) {
+    const TriangleF& t = layout.triangles[k];
+    const Vec3f v[3] = {t.v0, t.v1, t.v2};
+    for (int c = 0; c < 9; ++c)
+      columns[static_cast<std::size_t>(c) * stride + k] = v[c / 3][c % 3];
+  }
+  return stride;
+}
+
+// The layout's stats, the time since `start` added to the build's, and the stored bytes (nodes
+// and triangles) per triangle of the mesh: an sbvh tree's extra references are memory it pays
+// for.
+WideStats stored_stats(const WideLayout& layout, std::chrono::steady_clock::time_point start,
+                       double stored_bytes) {
+  WideStats stats = layout.stats;
+  stats.build_ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+          .count();
+  const double triangles = layout.stats.triangles > 0 ? double(layout.stats.triangles)
+                                                      : double(layout.triangles.size());
+  if (!layout.triangles.empty()) stats.bytes_per_triangle = stored_bytes / triangles;
+  return stats;
+}
 
 // The triangle records and the stats, the time since `start` added to the build's.
 template <class Node, class Triangles>
@@ -18,27 +50,10 @@ void finish(WideTree<Node, Triangles>& tree, const WideLayout& layout,
   for (std::size_t k = 0; k < layout.triangles.size(); ++k)
     Triangles::write(&tree.triangles[k * Triangles::k_records], layout.triangles[k],
                      layout.triangle_ids[k]);
-  // The columns, padded so that a read of eight from any triangle stays inside.
-  const int count = static_cast<int>(layout.triangles.size());
-  tree.column_stride = (count + 2 * 8 - 1) / 8 * 8;
-  tree.columns.assign(9 * static_cast<std::size_t>(tree.column_stride), 0.0f);
-  for (int k = 0; k < count; ++k) {
-    const TriangleF& t = layout.triangles[k];
-    const Vec3f v[3] = {t.v0, t.v1, t.v2};
-    for (int c = 0; c < 9; ++c)
-      tree.columns[static_cast<std::size_t>(c) * tree.column_stride + k] = v[c / 3][c % 3];
-  }
-  tree.stats = layout.stats;
-  tree.stats.build_ms +=
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-          .count();
-  // Per triangle of the mesh: an sbvh tree's extra references are memory it pays for.
-  const double triangles = layout.stats.triangles > 0 ? double(layout.stats.triangles)
-                                                      : double(layout.triangles.size());
-  if (!layout.triangles.empty())
-    tree.stats.bytes_per_triangle = double(tree.nodes.size() * sizeof(Node) +
-                                           tree.triangles.size() * sizeof(tree.triangles[0])) /
-                                    triangles;
+  tree.column_stride = write_columns(layout, tree.columns);
+  tree.stats = stored_stats(layout, start,
+                            double(tree.nodes.size() * sizeof(Node) +
+                                   tree.triangles.size() * sizeof(tree.triangles[0])));
 }
 
 // The non-empty slots of a node, in slot order: the positions its children take in a stored
@@ -80,6 +95,70 @@ WideTree<WideNode<N>, Triangles> pack_wide(const WideLayout& layout) {
 template Wide4Bvh pack_wide<4>(const WideLayout&);
 template Wide8Bvh pack_wide<8>(const WideLayout&);
 template Wide4PackedBvh pack_wide<4, PackedTriangles>(const WideLayout&);
+
+// [listing:pack_cpu]
+// The CPU's node from the same slot node: the boxes as pack_wide<8> stores them, and each
+// child's word written out. An interior child in slot s is node child_base plus the interior
+// children in the slots below s; a leaf's meta byte gives its triangles' bits. Each node's
+// triangles are copied to blocks of their own, in the same order, so the bits still count
+// from the node's (new) triangle_base.
+CpuTree pack_cpu(const WideLayout& layout) {
+  if (layout.width > k_slots)
+    throw InputError("a layout of width " + std::to_string(layout.width) +
+                     " does not fit the CPU's nodes of 8");
+  const auto start = std::chrono::steady_clock::now();
+  CpuTree tree;
+  tree.nodes.reserve(layout.nodes.size());
+  int slots_used = 0; // triangle slots written, padding included
+  for (const SlotNode& from : layout.nodes) {
+    CpuNode node{};
+    int slots[k_slots];
+    const int count = used_slots(from, slots);
+    unsigned all_leaves = 0;
+    for (int c = 0; c < k_slots; ++c) {
+      const Aabb box = c < count ? from.child_box[slots[c]] : Aabb{};
+      node.lo_x[c] = box.lo.x;
+      node.lo_y[c] = box.lo.y;
+      node.lo_z[c] = box.lo.z;
+      node.hi_x[c] = box.hi.x;
+      node.hi_y[c] = box.hi.y;
+      node.hi_z[c] = box.hi.z;
+      node.child[c] = cpu_leaf_child(0); // empty: a leaf of no triangles
+      if (c >= count) continue;
+      const std::uint8_t meta = from.meta[slots[c]];
+      const unsigned below = from.imask & ((1u << slots[c]) - 1u);
+      if (is_interior_meta(meta)) {
+        node.child[c] = from.child_base + std::popcount(below);
+      } else {
+        node.child[c] = cpu_leaf_child(meta_bits(meta, 0));
+        all_leaves |= meta_bits(meta, 0);
+      }
+    }
+    // This node's triangles: triangle_base .. + 31 - countl_zero(all_leaves), to new blocks.
+    const int triangles = 32 - std::countl_zero(all_leaves);
+    node.triangle_base = slots_used;
+    const int blocks = (triangles + k_block_triangles - 1) / k_block_triangles;
+    tree.columns.resize(tree.columns.size() + std::size_t(blocks) * k_block_floats, 0.0f);
+    tree.ids.resize(tree.ids.size() + std::size_t(blocks) * k_block_triangles, -1);
+    for (int k = 0; k < triangles; ++k) {
+      const int slot = slots_used + k, from_k = from.triangle_base + k;
+      const TriangleF& t = layout.triangles[from_k];
+      const Vec3f v[3] = {t.v0, t.v1, t.v2};
+      float* block = &tree.columns[std::size_t(slot / k_block_triangles) * k_block_floats];
+      for (int c = 0; c < 9; ++c)
+        block[c * k_block_triangles + slot % k_block_triangles] = v[c / 3][c % 3];
+      tree.ids[slot] = layout.triangle_ids[from_k];
+    }
+    slots_used += blocks * k_block_triangles;
+    tree.nodes.push_back(node);
+  }
+  tree.stats =
+      stored_stats(layout, start,
+                   double(tree.nodes.size() * sizeof(CpuNode) +
+                          tree.columns.size() * sizeof(float) + tree.ids.size() * sizeof(int)));
+  return tree;
+}
+// [/listing:pack_cpu]
 
 // [listing:quantise]
 // Rounding outward, and why it holds. dequantise(q) = fl(q * step + origin), and q * step is

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bvh_build.h"
+#include "cpu_tree.h"
 #include "memory_tracers.h"
 #include "model_render.h"
 #include "rt/device_buffer.h"
@@ -36,6 +37,7 @@ constexpr TracerInfo k_info[] = {
     {ChapterTracer::wide4_packed_persistent, "wide4 packed, persistent",
      "wide4_packed_persistent"},
     {ChapterTracer::wide4_packed_sorted, "wide4 packed, sorted rays", "wide4_packed_sorted"},
+    {ChapterTracer::cpu8, "cpu8", "cpu8"},
 };
 
 const TracerInfo& info(ChapterTracer tracer) {
@@ -154,7 +156,8 @@ public:
     const Collapse collapse =
         which == ChapterTracer::cwbvh8_greedy ? Collapse::greedy : Collapse::sah;
     const int width = which == ChapterTracer::wide8 || which == ChapterTracer::cwbvh8 ||
-                              which == ChapterTracer::cwbvh8_greedy
+                              which == ChapterTracer::cwbvh8_greedy ||
+                              which == ChapterTracer::cpu8
                           ? 8
                           : 4;
     std::optional<WideLayout>& layout = layouts_[collapse == Collapse::sah][width == 8];
@@ -166,10 +169,15 @@ public:
     return *layout;
   }
 
-  // A stored tree, its build reported under `which`'s name.
+  // A stored tree's build, reported under `which`'s name.
+  void report(ChapterTracer which, const WideStats& stats) const {
+    if (on_build_) on_build_(scene_.name, to_string(which), stats);
+  }
+
+  // A stored tree, its build reported.
   template <class Node, class Triangles>
   SharedTree<Node, Triangles> stored(ChapterTracer which, WideTree<Node, Triangles> built) {
-    if (on_build_) on_build_(scene_.name, to_string(which), built.stats);
+    report(which, built.stats);
     return share(std::move(built), scene_);
   }
 
@@ -189,7 +197,25 @@ private:
   std::optional<PackedTree> wide4_packed_;
 };
 
+// The CPU's own tree as a tracer: a CPU path only, so the runner leaves it out on the GPU.
+Tracer cpu_tracer(ChapterTracer which, SceneTrees& trees) {
+  const auto tree = std::make_shared<const CpuTree>(pack_cpu(trees.layout(which)));
+  trees.report(which, tree->stats);
+  Tracer tracer;
+  tracer.name = to_string(which);
+  tracer.rule = ch07::HitRule::ties_allowed;
+  tracer.bytes_per_triangle = tree->stats.bytes_per_triangle;
+  tracer.trace_cpu = [tree](Query query, std::span<const RayF> rays, std::span<MeshHit> hits) {
+    trace_cpu_tree(query, tree->view(), rays, hits);
+  };
+  tracer.work = [tree](Query query, std::span<const RayF> rays) {
+    return measure_cpu_tree_work(query, tree->view(), rays);
+  };
+  return tracer;
+}
+
 Tracer make_wide(ChapterTracer which, SceneTrees& trees, const TracerScene& scene) {
+  if (which == ChapterTracer::cpu8) return cpu_tracer(which, trees);
   if (which == ChapterTracer::wide4_packed)
     return wide_tracer(to_string(which), trees.wide4_packed());
   if (is_traversal_variant(which)) return variant_tracer(which, trees.wide4_packed(), scene);

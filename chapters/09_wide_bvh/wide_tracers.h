@@ -31,6 +31,9 @@ enum class ChapterTracer {
   wide4_packed_shared_stack, // the stack's first entries in shared memory
   wide4_packed_persistent,   // persistent threads taking 32 rays a warp from a counter
   wide4_packed_sorted,       // the rays traced sorted by octant and origin, sort included
+  // The CPU's own tree: the SAH collapse to 8 children, every child's address written out,
+  // children visited nearest first (cpu_tree.h). CPU backend only.
+  cpu8,
 };
 // [/listing:chapter_tracers]
 
@@ -42,7 +45,8 @@ inline constexpr ChapterTracer k_all_tracers[] = {ChapterTracer::binary,
                                                   ChapterTracer::wide4_packed,
                                                   ChapterTracer::wide4_packed_shared_stack,
                                                   ChapterTracer::wide4_packed_persistent,
-                                                  ChapterTracer::wide4_packed_sorted};
+                                                  ChapterTracer::wide4_packed_sorted,
+                                                  ChapterTracer::cpu8};
 
 // Whether the tracer is one of wide4 packed's traversal variants: its tree, traversed another
 // way on the GPU, no tree of its own.

@@ -171,11 +171,13 @@ RT_HD inline unsigned enter_children(const ChildSlabs<N>& s, const ch07::BoxRay&
 inline float max_onto(float a, float acc) { return a > acc ? a : acc; }
 inline float min_onto(float a, float acc) { return a < acc ? a : acc; }
 
+//   - Each child's entry distance goes to `t_enter` as well, for the traversal that orders
+//     children by distance (cpu_traverse.h); the others pass an array nobody reads.
 template <int N>
 RT_INLINE_ON_CPU inline unsigned
 enter_children_cpu(const float (&lo_x)[N], const float (&lo_y)[N], const float (&lo_z)[N],
                    const float (&hi_x)[N], const float (&hi_y)[N], const float (&hi_z)[N],
-                   const ch07::BoxRay& r, float tmin, float tmax) {
+                   const ch07::BoxRay& r, float tmin, float tmax, float (&t_enter)[N]) {
   const float* near_x = r.negative[0] ? hi_x : lo_x;
   const float* near_y = r.negative[1] ? hi_y : lo_y;
   const float* near_z = r.negative[2] ? hi_z : lo_z;
@@ -186,16 +188,15 @@ enter_children_cpu(const float (&lo_x)[N], const float (&lo_y)[N], const float (
   const float infinity = std::numeric_limits<float>::infinity();
   int entered[N];
   for (int c = 0; c < N; ++c) {
-    const float t_enter =
-        max_onto((near_z[c] - r.origin.z) * r.inverse.z,
-                 max_onto((near_y[c] - r.origin.y) * r.inverse.y,
-                          max_onto((near_x[c] - r.origin.x) * r.inverse.x, tmin)));
+    t_enter[c] = max_onto((near_z[c] - r.origin.z) * r.inverse.z,
+                          max_onto((near_y[c] - r.origin.y) * r.inverse.y,
+                                   max_onto((near_x[c] - r.origin.x) * r.inverse.x, tmin)));
     const float t_exit =
         min_onto((far_z[c] - r.origin.z) * r.inverse.z,
                  min_onto((far_y[c] - r.origin.y) * r.inverse.y,
                           min_onto((far_x[c] - r.origin.x) * r.inverse.x, infinity))) *
         k_exit_widening;
-    entered[c] = t_enter <= min_onto(t_exit, tmax_kept) ? -1 : 0;
+    entered[c] = t_enter[c] <= min_onto(t_exit, tmax_kept) ? -1 : 0;
   }
   unsigned mask = 0;
   for (int c = 0; c < N; ++c) mask |= unsigned(entered[c]) & (1u << c);
@@ -206,14 +207,18 @@ enter_children_cpu(const float (&lo_x)[N], const float (&lo_y)[N], const float (
 template <int N>
 RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const WideNode<N>& n, const WideRay& r,
                                                     float tmin, float tmax) {
-  return enter_children_cpu(n.lo_x, n.lo_y, n.lo_z, n.hi_x, n.hi_y, n.hi_z, r.box, tmin, tmax);
+  float t_enter[N];
+  return enter_children_cpu(n.lo_x, n.lo_y, n.lo_z, n.hi_x, n.hi_y, n.hi_z, r.box, tmin, tmax,
+                            t_enter);
 }
 
 // The compressed node's planes dequantised first (dequantise_planes), then the same test.
 RT_INLINE_ON_CPU inline unsigned enter_children_cpu(const CompressedNode& n, const WideRay& r,
                                                     float tmin, float tmax) {
   const ChildPlanes p = dequantise_planes(n);
-  return enter_children_cpu(p.lo_x, p.lo_y, p.lo_z, p.hi_x, p.hi_y, p.hi_z, r.box, tmin, tmax);
+  float t_enter[k_slots];
+  return enter_children_cpu(p.lo_x, p.lo_y, p.lo_z, p.hi_x, p.hi_y, p.hi_z, r.box, tmin, tmax,
+                            t_enter);
 }
 
 #if defined(__AVX2__)
@@ -270,15 +275,16 @@ struct WideRayAvx2 : WideRay {
 //     own mask, and the eight are ORed together as the loop ORs them.
 
 // All ones in the lanes of the children the ray enters within [tmin, tmax]. `planes` is the
-// first byte of the six plane arrays.
+// first byte of the six plane arrays. `t_enter` receives each child's entry distance (the
+// CPU's own traversal, cpu_traverse.h, orders the children by it).
 RT_INLINE_ON_CPU inline __m256 enter_eight(const void* planes, const EightLaneRay& r,
-                                           float tmin, float tmax) {
+                                           float tmin, float tmax, __m256& t_enter) {
   const auto distance = [&](int offset, __m256 origin, __m256 inverse) {
     const float* plane =
         reinterpret_cast<const float*>(static_cast<const char*>(planes) + offset);
     return _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(plane), origin), inverse);
   };
-  const __m256 t_enter =
+  t_enter =
       _mm256_max_ps(distance(r.near_z, r.origin_z, r.inverse_z),
                     _mm256_max_ps(distance(r.near_y, r.origin_y, r.inverse_y),
                                   _mm256_max_ps(distance(r.near_x, r.origin_x, r.inverse_x),
@@ -292,6 +298,11 @@ RT_INLINE_ON_CPU inline __m256 enter_eight(const void* planes, const EightLaneRa
       _mm256_set1_ps(k_exit_widening));
   const __m256 tmax_kept = _mm256_set1_ps(tmax * ch07::k_tmax_slack);
   return _mm256_cmp_ps(t_enter, _mm256_min_ps(t_exit, tmax_kept), _CMP_LE_OQ);
+}
+RT_INLINE_ON_CPU inline __m256 enter_eight(const void* planes, const EightLaneRay& r,
+                                           float tmin, float tmax) {
+  __m256 t_enter;
+  return enter_eight(planes, r, tmin, tmax, t_enter);
 }
 
 // meta_bits of the eight children, ORed over the lanes of `entered`.
@@ -479,6 +490,20 @@ RT_INLINE_ON_CPU RT_HD inline bool test_triangles(const Tree& tree, int base, un
 }
 // [/listing:test_triangles]
 
+#if !defined(__CUDA_ARCH__)
+// Where triangles k .. k + 7 of a tree with columns lie, as the eight-at-once test reads them
+// (intersect_eight, below): one long column per coordinate. (The CPU's own tree keeps them in
+// blocks of eight: cpu_tree.h.)
+struct EightColumns {
+  const float* first; // coordinate c of the eight from first + c * stride
+  int stride;
+};
+template <class Tree>
+RT_INLINE_ON_CPU inline EightColumns eight_columns(const Tree& tree, int k) {
+  return {tree.columns + k, tree.column_stride};
+}
+#endif
+
 #if !defined(__CUDA_ARCH__) && defined(__AVX2__) && defined(__FMA__)
 // [listing:triangles_avx2]
 // On a CPU with AVX2 and FMA, for the traversal with the axes fixed (trace_wide_cpu), eight
@@ -493,10 +518,12 @@ struct EightTriangleHits {
   unsigned hit; // lanes whose triangle is hit within (tmin, tmax)
 };
 
+// Coordinate c (v0.x v0.y v0.z v1.x ... v2.z) of the eight triangles lies at first + c *
+// stride, eight consecutive floats.
 template <int X, int Y, int Z>
 RT_INLINE_ON_CPU inline EightTriangleHits
-intersect_eight(const float* columns, int stride, int k,
-                const ch04::WatertightRay<float>& frame, const RayF& ray) {
+intersect_eight(const float* first, int stride, const ch04::WatertightRay<float>& frame,
+                const RayF& ray) {
   const __m256 sx = _mm256_set1_ps(frame.shear_x), sy = _mm256_set1_ps(frame.shear_y),
                sz = _mm256_set1_ps(frame.shear_z);
   const __m256 ox = _mm256_set1_ps(ray.origin[X]), oy = _mm256_set1_ps(ray.origin[Y]),
@@ -506,7 +533,7 @@ intersect_eight(const float* columns, int stride, int k,
   };
   const auto move = [&](int vertex) {
     const auto column = [&](int axis) {
-      return _mm256_loadu_ps(columns + (3 * vertex + axis) * stride + k);
+      return _mm256_loadu_ps(first + (3 * vertex + axis) * stride);
     };
     const __m256 dz = _mm256_sub_ps(column(Z), oz);
     return Moved{_mm256_fnmadd_ps(sx, dz, _mm256_sub_ps(column(X), ox)),
@@ -554,8 +581,9 @@ test_triangles_avx2(const Tree& tree, int base, unsigned bits, RayF& ray, TraceH
     const int first = lowest_bit(left) & ~7; // triangles first .. first + 7
     const unsigned lanes = (left >> first) & 0xffu;
     left &= ~(0xffu << first);
+    const EightColumns columns = eight_columns(tree, base + first);
     const EightTriangleHits e =
-        intersect_eight<X, Y, Z>(tree.columns, tree.column_stride, base + first, frame, ray);
+        intersect_eight<X, Y, Z>(columns.first, columns.stride, frame, ray);
     const unsigned found = e.hit & lanes;
     if (found == 0) continue;
     alignas(32) float t[8];

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -27,15 +28,24 @@ const std::string k_room = RT_ASSETS_DIR "/cornell_room.obj.gz";
 
 TEST_CASE("embree compare: the wide trees hit what Embree hits, up to ties", "[ch09]") {
   const std::filesystem::path folder = rt::testing::temp_folder("rt_ch09_embree");
-  for (const std::string tracer : {"", "cwbvh8", "wide4_packed_sorted"}) {
-    CAPTURE(tracer);
-    const std::string json = (folder / ("report" + tracer + ".json")).string();
-    const std::string choice = tracer.empty() ? "" : " --tracer " + tracer;
+  // The default (the CPU's own tree), others, and trees built with spatial splits.
+  const std::pair<std::string, std::string> cases[] = {{"", ""},
+                                                       {"wide8", ""},
+                                                       {"cwbvh8", ""},
+                                                       {"wide4_packed_sorted", ""},
+                                                       {"", " --split sbvh --split-budget 0.5"},
+                                                       {"wide8", " --split sbvh"}};
+  int k = 0;
+  for (const auto& [tracer, split] : cases) {
+    CAPTURE(tracer, split);
+    const std::string json = (folder / ("report" + std::to_string(k++) + ".json")).string();
+    const std::string choice = (tracer.empty() ? "" : " --tracer " + tracer) + split;
     const ProgramRun run = rt::testing::run_command(
         k_program + choice + " --width 48 --height 27 --runs 1 --json " + json + " " + k_room);
     INFO(run.output);
     REQUIRE(run.exit_code == 0);
-    CHECK_THAT(run.output, contains("Our " + (tracer.empty() ? "wide8" : tracer) + " tree"));
+    CHECK_THAT(run.output, contains("Our " + (tracer.empty() ? "cpu8" : tracer) + " tree"));
+    if (!split.empty()) CHECK_THAT(run.output, contains("spatial splits"));
     CHECK_THAT(run.output, contains("| diffuse |"));
 
     std::ifstream in(json);
@@ -68,6 +78,15 @@ TEST_CASE("embree compare: an unknown tracer, another thread count or an absurd 
   CHECK(line_count(run.output) == 1);
   CHECK_THAT(run.output, contains("--tracer wide16") && contains("wide8") &&
                              contains("cwbvh8_greedy") && contains("binary"));
+
+  // A split budget without spatial splits, and a split the program does not know.
+  run = rt::testing::run_command(k_program + " --split-budget 0.5 " + k_room);
+  CHECK(run.exit_code == 2);
+  CHECK(line_count(run.output) == 1);
+  CHECK_THAT(run.output, contains("--split-budget goes with --split sbvh"));
+  run = rt::testing::run_command(k_program + " --split median " + k_room);
+  CHECK(run.exit_code != 0);
+  CHECK_THAT(run.output, contains("--split"));
 
   // Both tracers run on the CPU backend's threads, which RT_CPU_THREADS sets.
   run = rt::testing::run_command("RT_CPU_THREADS=1 " + k_program + " --threads 2 " + k_room);

@@ -461,7 +461,7 @@ TEST_CASE("the runner accepts every tracer of the chapter on the CPU", "[ch09]")
       options, report);
   CHECK(result.problems == 0);
   // Every tree but the binary, once each: the traversal variants share wide4 packed's.
-  CHECK(built.size() == 5);
+  CHECK(built.size() == 6);
   CHECK(std::count(built.begin(), built.end(), "wide4 packed") == 1);
   for (const ChapterTracer tracer : k_all_tracers)
     for (const ch07::RayType type :

@@ -13,6 +13,7 @@
 #include "07_bvh/bvh_cases.h"
 #include "bvh_build.h"
 #include "collapse.h"
+#include "cpu_traverse.h"
 #include "shaded_scene.h"
 #include "traverse.h"
 #include "wide_traverse.h"
@@ -122,6 +123,11 @@ template <class Fn> void for_each_tree(const WideTrees& trees, Fn fn) {
 template <Query kQuery, class Tree, class C = ch07::NoCounters>
 TraceHit trace(const Tree& tree, const RayF& ray, C&& counters = C{}) {
   return trace_wide<kQuery>(tree, ray, counters);
+}
+// The CPU's own tree through its own traversal (cpu_traverse.h).
+template <Query kQuery, class C = ch07::NoCounters>
+TraceHit trace(const CpuTreeView& tree, const RayF& ray, C&& counters = C{}) {
+  return trace_cpu<kQuery>(tree, ray, counters);
 }
 
 // How a tree's answers relate to brute force's (chapter 04, watertight): closest hits the
