@@ -100,6 +100,7 @@ struct SahPlane {
   double cost = std::numeric_limits<double>::infinity();
 };
 
+// [listing:hoare_partition]
 // Hoare's partition of [begin, end): moves the references for which goes_left holds before the
 // others, and returns where the others begin. A scan from the left stops at a reference that
 // belongs on the right, one from the right stops at a reference that belongs on the left, the
@@ -121,6 +122,7 @@ int partition_references(Reference* refs, int begin, int end, GoesLeft goes_left
     ++first;
   }
 }
+// [/listing:hoare_partition]
 
 // A fixed team of threads that run one function together, again and again: the calling thread
 // is member 0, the others wait at a barrier between jobs. Starting threads for every pass of
@@ -198,7 +200,6 @@ struct Subtree {
   int start = 0; // its root's index in the whole tree, once known
 };
 
-// [listing:parallel_build]
 // Building on every core. The tree must be the same for any number of threads, bit for bit, so
 // every decision is taken exactly as the one-thread build takes it, on the same data:
 //  - Top phase: the nodes with many triangles are split one after the other, as in the serial
@@ -213,7 +214,6 @@ struct Subtree {
 //  - Splice: every subtree's array is copied to the place it would have had in the serial
 //    depth-first order, its node numbers shifted by where it starts.
 // With one thread there is no top phase, and the build is the serial one.
-// [/listing:parallel_build]
 class Builder {
 public:
   Builder(const ch04::Mesh& mesh, const BuildOptions& options, int threads)
@@ -441,6 +441,7 @@ private:
       return std::min(k, options_.bins - 1);
     }
 
+    // [listing:sah_split]
     // Drops the references [begin, end) into `bins` (bins per axis, axis after axis).
     void fill_bins(int begin, int end, Bin* bins) const {
       const int bin_count = options_.bins;
@@ -482,7 +483,6 @@ private:
         origin_[axis] = centroids.lo[axis];
         scale_[axis] = extent > 0.0 ? bin_count / extent : 0.0; // 0: no plane on this axis
       }
-      // [listing:sah_split]
       // Binned SAH (Wald 2007). Drop every triangle into one of `bins` equal slices of the
       // centroids' bounds, on each axis, keeping each bin's count and box. The planes between
       // bins are the candidate splits; each is priced, in units of one triangle test, as one
