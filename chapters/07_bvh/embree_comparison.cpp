@@ -115,8 +115,8 @@ using EmbreeScene = std::unique_ptr<RTCSceneTy, SceneRelease>;
 using EmbreeGeometry = std::unique_ptr<RTCGeometryTy, GeometryRelease>;
 
 // A device whose builds use `threads` threads (Embree builds in parallel, on its own pool):
-// the cores the tracing gets. Our build is single-threaded (bvh_build.h), so the build times
-// compare a parallel builder with a serial one; the tracing figures compare like with like.
+// the cores the tracing gets. Our binned SAH build runs on the CPU backend's threads, the same
+// count (bvh_build.h); our spatial-split build runs on one, and the build row says which.
 EmbreeDevice make_embree_device(int threads, EmbreeErrors& errors) {
   const std::string config = "threads=" + std::to_string(threads);
   EmbreeDevice device(rtcNewDevice(config.c_str()));

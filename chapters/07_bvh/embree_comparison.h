@@ -17,7 +17,7 @@ namespace rt::ch07 {
 struct OursOnScene {
   Tracer tracer;       // traced through trace_cpu
   double build_ms = 0; // its whole build from the mesh
-  std::string build;   // how it was built: "binned SAH, 1 thread"
+  std::string build;   // how it was built: "binned SAH, 2 threads"
   std::string cost;    // its tree's cost model: "SAH cost 55.1"
 };
 
