@@ -2,13 +2,16 @@
 #include "collapse.h"
 
 #include <algorithm>
-#include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <utility>
 
 #include "bvh_build.h"
 #include "octant_slots.h"
+#include "rt/backend.h"
 #include "rt/error.h"
 
 namespace rt::ch09 {
@@ -28,74 +31,133 @@ bool first_in_range(const std::vector<int>& ids, int first, int k) {
   return true;
 }
 
-// Chapter 07's tree as one entry per node and per leaf, parents before children. A subtree's
-// references are consecutive in chapter 07's leaf order: [first, first + count). Its box is
-// the one chapter 07 stored for it: for an sbvh tree the box of the clipped parts of its
-// triangles, which is all a ray must enter to reach those parts.
-struct Entry {
-  Aabb box;
-  int child[2] = {-1, -1}; // -1: a leaf
-  int first = 0, count = 0;
-  // The mesh triangles among its references, if it could be a wide leaf (count <= 3): an sbvh
-  // subtree may hold one triangle in two of its leaves, and a wide leaf made of it holds
-  // that triangle once (its box holds both parts).
+// The mesh triangles among the references [first, first + count): an sbvh subtree may hold one
+// triangle in two of its leaves, and a wide leaf made of it holds that triangle once (its box
+// holds both parts). Counted only where the references could be a wide leaf.
+int distinct_triangles(const std::vector<int>& ids, int first, int count) {
+  if (count > k_max_leaf_triangles) return count;
   int distinct = 0;
-  bool leaf() const { return child[0] < 0; }
-};
+  for (int k = first; k < first + count; ++k) distinct += first_in_range(ids, first, k);
+  return distinct;
+}
 
-class Entries {
+// Chapter 07's tree as the collapse reads it. What a wide node's child is made of is a child of
+// a binary node, an "edge" numbered 2 * node + c: kept whole as a wide leaf, or made a wide
+// node of its own. Its box is the one chapter 07 stored for it: for an sbvh tree the box of the
+// clipped parts of its triangles, which is all a ray must enter to reach those parts. A
+// subtree's references are consecutive in chapter 07's leaf order: [first, first + count).
+class BinaryTree {
 public:
-  explicit Entries(const ch07::Bvh& bvh) {
-    if (bvh.nodes.empty()) return;
-    const ch07::BvhNode& root = bvh.nodes[0];
-    if (root.count[0] > 0 && root.count[1] == 0) // the whole mesh in one leaf
-      entries_.push_back({bvh.bounds, {-1, -1}, root.first[0], root.count[0]});
-    else
-      add_node(bvh, 0, bvh.bounds);
-    for (Entry& e : entries_) e.distinct = distinct_triangles(bvh, e);
+  explicit BinaryTree(const ch07::Bvh& bvh)
+      : bvh_(bvh), range_first_(bvh.nodes.size()), range_count_(bvh.nodes.size()) {}
+
+  static int edge(int node, int c) { return 2 * node + c; }
+  const ch07::BvhNode& node(int n) const { return bvh_.nodes[n]; }
+  int node_count() const { return static_cast<int>(bvh_.nodes.size()); }
+  const Aabb& box(int e) const { return bvh_.nodes[e >> 1].box[e & 1]; }
+  bool leaf(int e) const { return bvh_.nodes[e >> 1].is_leaf(e & 1); }
+  int child_node(int e) const { return bvh_.nodes[e >> 1].first[e & 1]; } // interior edges
+  int first(int e) const {
+    return leaf(e) ? node(e >> 1).first[e & 1] : range_first_[child_node(e)];
   }
-  const std::vector<Entry>& all() const { return entries_; }
+  int count(int e) const {
+    return leaf(e) ? node(e >> 1).count[e & 1] : range_count_[child_node(e)];
+  }
+  int distinct(int e) const {
+    return distinct_triangles(bvh_.triangle_ids, first(e), count(e));
+  }
+  const std::vector<int>& triangle_ids() const { return bvh_.triangle_ids; }
+  const std::vector<TriangleF>& triangles() const { return bvh_.triangles; }
+
+  // The references below interior node n, from its children's (which must be known): the
+  // bottom-up pass calls it for every node after its interior children.
+  void set_range(int n) {
+    const ch07::BvhNode& x = node(n);
+    for (int c = 0; c < 2; ++c)
+      if (!x.is_leaf(c) && !(x.first[c] > n && x.first[c] < node_count()))
+        throw Error("collapse: the binary tree is not in depth-first order");
+    const int left = edge(n, 0), right = edge(n, 1);
+    if (first(right) != first(left) + count(left))
+      throw Error("collapse: a binary subtree's triangles are not consecutive");
+    range_first_[n] = first(left);
+    range_count_[n] = count(left) + count(right);
+  }
+
+  // One past the last node of interior node n's subtree: chapter 07 writes a subtree's nodes
+  // depth first, so they are the numbers from n up to its last node on the right.
+  int subtree_end(int n) const {
+    for (;;) {
+      const ch07::BvhNode& x = node(n);
+      if (!x.is_leaf(1))
+        n = x.first[1];
+      else if (!x.is_leaf(0))
+        n = x.first[0];
+      else
+        return n + 1;
+    }
+  }
 
 private:
-  static int distinct_triangles(const ch07::Bvh& bvh, const Entry& e) {
-    if (e.count > k_max_leaf_triangles) return e.count;
-    int distinct = 0;
-    for (int k = e.first; k < e.first + e.count; ++k)
-      distinct += first_in_range(bvh.triangle_ids, e.first, k);
-    return distinct;
-  }
-
-  int add_node(const ch07::Bvh& bvh, int node, const Aabb& box) {
-    const int index = static_cast<int>(entries_.size());
-    entries_.push_back({box});
-    const ch07::BvhNode n = bvh.nodes[node];
-    int child[2];
-    for (int c = 0; c < 2; ++c) {
-      if (n.is_leaf(c)) {
-        child[c] = static_cast<int>(entries_.size());
-        entries_.push_back({n.box[c], {-1, -1}, n.first[c], n.count[c]});
-      } else {
-        child[c] = add_node(bvh, n.first[c], n.box[c]);
-      }
-    }
-    const Entry& left = entries_[child[0]];
-    const Entry& right = entries_[child[1]];
-    if (right.first != left.first + left.count)
-      throw Error("collapse: a binary subtree's triangles are not consecutive");
-    entries_[index] = {box, {child[0], child[1]}, left.first, left.count + right.count};
-    return index;
-  }
-
-  std::vector<Entry> entries_;
+  const ch07::Bvh& bvh_;
+  std::vector<int> range_first_, range_count_; // per interior node
 };
 
-// A wide node's child, before it has a slot: a binary entry, kept whole as a leaf or made a
+// How many pieces each thread gets, about, and the smallest piece worth handing out: as in
+// chapter 07's build (bvh_build.cpp), a handful per thread, so that uneven pieces still finish
+// together.
+constexpr int k_pieces_per_thread = 4;
+constexpr int k_min_piece = 2048;
+
+// [listing:bottom_up]
+// visit(n) for every interior node n of the binary tree, each after its interior children.
+// In chapter 07's depth-first order a child's number is larger than its parent's, so on one
+// thread that is the nodes in decreasing number. On several, the subtrees of at most `piece`
+// nodes just below the top are handed to the threads, each visited in decreasing number (a
+// subtree's nodes are consecutive numbers), and then the few nodes above them, one after the
+// other. Each visit reads only what its children's visits wrote, so every node sees the very
+// same values whichever thread visited its children, and when.
+template <class Visit> void visit_bottom_up(const BinaryTree& tree, int threads, Visit visit) {
+  const int count = tree.node_count();
+  const int piece = std::max(k_min_piece, count / (k_pieces_per_thread * threads));
+  if (threads == 1 || count <= piece) {
+    for (int n = count - 1; n >= 0; --n) visit(n);
+    return;
+  }
+  std::vector<int> top{0}; // the nodes above the pieces, parents before children
+  std::vector<std::pair<int, int>> pieces;
+  for (std::size_t k = 0; k < top.size(); ++k) {
+    const ch07::BvhNode& x = tree.node(top[k]);
+    for (int c = 0; c < 2; ++c) {
+      if (x.is_leaf(c)) continue;
+      const int child = x.first[c];
+      if (!(child > top[k] && child < count))
+        throw Error("collapse: the binary tree is not in depth-first order");
+      const int end = tree.subtree_end(child);
+      (end - child <= piece ? void(pieces.emplace_back(child, end)) : top.push_back(child));
+    }
+  }
+  std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) {
+    return a.second - a.first > b.second - b.first;
+  });
+  for_each_index_rethrow(pieces.size(), threads, [&](std::size_t k) {
+    for (int n = pieces[k].second - 1; n >= pieces[k].first; --n) visit(n);
+  });
+  std::sort(top.begin(), top.end());
+  for (auto n = top.rbegin(); n != top.rend(); ++n) visit(*n);
+}
+// [/listing:bottom_up]
+
+// A wide node's child, before it has a slot: a binary edge, kept whole as a leaf or made a
 // wide node of its own.
 struct Pick {
-  int entry;
+  int edge;
   bool leaf;
 };
-using Picks = std::vector<Pick>;
+struct Picks {
+  Pick pick[k_slots];
+  int count = 0;
+  void push(Pick p) { pick[count++] = p; }
+};
 
 // [listing:sah_collapse]
 // The SAH collapse (the paper's dynamic programming). For every binary entry n, bottom up, and
@@ -107,29 +169,65 @@ using Picks = std::vector<Pick>;
 //   cost[n][1]     = min(leaf(n), interior(n))
 //   cost[n][i]     = min(cost[n][i - 1], distribute(n, i))
 // Recording which choice won, a wide node made of n takes distribute(n, width)'s children.
+// An entry is an edge of the binary tree: a binary leaf costs leaf(n) for every i, and an
+// interior node's row is priced when its parent is visited, where its box (A(n)) is stored.
 class SahCollapse {
 public:
-  SahCollapse(const std::vector<Entry>& entries, int width)
-      : entries_(entries), width_(width), cost_(entries.size()), split_(entries.size()),
-        node_split_(entries.size()), as_leaf_(entries.size()) {
-    for (int n = static_cast<int>(entries.size()) - 1; n >= 0; --n) price(n);
+  SahCollapse(BinaryTree& tree, int width, int threads)
+      : tree_(tree), width_(width), cost_(table<double>(tree.node_count() * width_)),
+        split_(table<std::uint8_t>(tree.node_count() * width_)),
+        node_split_(table<std::uint8_t>(tree.node_count())),
+        as_leaf_(table<std::uint8_t>(tree.node_count())) {
+    visit_bottom_up(tree, threads, [&](int n) {
+      tree_.set_range(n);
+      for (int c = 0; c < 2; ++c)
+        if (!tree_.leaf(BinaryTree::edge(n, c))) price(BinaryTree::edge(n, c));
+    });
+    double rows[2][k_slots];
+    child_rows(0, rows);
+    int k = 0;
+    distribute(rows, width_, k);
+    node_split_[0] = static_cast<std::uint8_t>(k); // the root's row itself is never needed
   }
 
-  // The children of a wide node made of interior entry n.
+  // The children of a wide node made of interior node n.
   Picks children(int n) const {
     Picks out;
-    const Entry& e = entries_[n];
-    collect(e.child[0], node_split_[n], out);
-    collect(e.child[1], width_ - node_split_[n], out);
+    collect(BinaryTree::edge(n, 0), node_split_[n], out);
+    collect(BinaryTree::edge(n, 1), width_ - node_split_[n], out);
     return out;
   }
 
 private:
-  double distribute(int n, int j, int& best_k) const {
-    const Entry& e = entries_[n];
+  // Millions of entries: left uninitialised (every one is written before it is read), so the
+  // pages are first touched by the thread that prices them, not zeroed by this one.
+  template <class T> static std::unique_ptr<T[]> table(int size) {
+    return std::make_unique_for_overwrite<T[]>(static_cast<std::size_t>(size));
+  }
+
+  double leaf_cost(int e) const {
+    return tree_.count(e) <= k_max_leaf_triangles
+               ? ch07::half_area_of(tree_.box(e)) * tree_.distinct(e) * k_triangle_cost
+               : k_inf;
+  }
+
+  // cost[child][1..width] of interior node n's two children, a binary leaf's repeated.
+  void child_rows(int n, double (&rows)[2][k_slots]) const {
+    for (int c = 0; c < 2; ++c) {
+      const int e = BinaryTree::edge(n, c);
+      if (tree_.leaf(e)) {
+        std::fill(std::begin(rows[c]), std::end(rows[c]), leaf_cost(e));
+      } else {
+        const double* row = &cost_[std::size_t(tree_.child_node(e)) * width_];
+        std::copy(row, row + width_, rows[c]);
+      }
+    }
+  }
+
+  static double distribute(const double (&rows)[2][k_slots], int j, int& best_k) {
     double best = k_inf;
     for (int k = 1; k < j; ++k) {
-      const double c = cost_[e.child[0]][k] + cost_[e.child[1]][j - k];
+      const double c = rows[0][k - 1] + rows[1][j - k - 1];
       if (c < best) {
         best = c;
         best_k = k;
@@ -138,46 +236,53 @@ private:
     return best;
   }
 
-  void price(int n) {
-    const Entry& e = entries_[n];
-    const double area = ch07::half_area_of(e.box);
-    const double leaf =
-        e.count <= k_max_leaf_triangles ? area * e.distinct * k_triangle_cost : k_inf;
-    if (e.leaf()) {
-      cost_[n].fill(leaf);
-      as_leaf_[n] = true;
-      return;
-    }
-    const double interior = area * k_node_cost + distribute(n, width_, node_split_[n]);
+  // The row of the interior node at the end of edge e.
+  void price(int e) {
+    const int n = tree_.child_node(e);
+    const double area = ch07::half_area_of(tree_.box(e));
+    const double leaf = leaf_cost(e);
+    double rows[2][k_slots];
+    child_rows(n, rows);
+    int best_k = 0;
+    const double interior = area * k_node_cost + distribute(rows, width_, best_k);
+    node_split_[n] = static_cast<std::uint8_t>(best_k);
     as_leaf_[n] = leaf <= interior;
-    cost_[n][1] = std::min(leaf, interior);
+    double* cost = &cost_[std::size_t(n) * width_];
+    std::uint8_t* split = &split_[std::size_t(n) * width_];
+    cost[0] = std::min(leaf, interior);
+    split[0] = 0;
     for (int i = 2; i <= width_; ++i) {
       int k = 0;
-      const double spread = distribute(n, i, k);
-      const bool fewer = cost_[n][i - 1] <= spread; // on a tie, fewer children
-      cost_[n][i] = fewer ? cost_[n][i - 1] : spread;
-      split_[n][i] = fewer ? 0 : k;
+      const double spread = distribute(rows, i, k);
+      const bool fewer = cost[i - 2] <= spread; // on a tie, fewer children
+      cost[i - 1] = fewer ? cost[i - 2] : spread;
+      split[i - 1] = static_cast<std::uint8_t>(fewer ? 0 : k);
     }
   }
 
-  void collect(int n, int i, Picks& out) const {
-    const Entry& e = entries_[n];
-    if (i == 1 || e.leaf()) {
-      out.push_back({n, as_leaf_[n] != 0});
-    } else if (split_[n][i] == 0) {
-      collect(n, i - 1, out);
+  void collect(int e, int i, Picks& out) const {
+    if (tree_.leaf(e)) {
+      out.push({e, true});
+      return;
+    }
+    const int n = tree_.child_node(e);
+    const int k = split_[std::size_t(n) * width_ + i - 1];
+    if (i == 1) {
+      out.push({e, as_leaf_[n] != 0});
+    } else if (k == 0) {
+      collect(e, i - 1, out);
     } else {
-      collect(e.child[0], split_[n][i], out);
-      collect(e.child[1], i - split_[n][i], out);
+      collect(BinaryTree::edge(n, 0), k, out);
+      collect(BinaryTree::edge(n, 1), i - k, out);
     }
   }
 
-  const std::vector<Entry>& entries_;
+  BinaryTree& tree_;
   int width_;
-  std::vector<std::array<double, k_slots + 1>> cost_; // [n][i], i = 1..width
-  std::vector<std::array<int, k_slots + 1>> split_;   // [n][i]: k, or 0 for cost[n][i-1]
-  std::vector<int> node_split_;                       // k of distribute(n, width)
-  std::vector<unsigned char> as_leaf_;                // cost[n][1] is leaf(n)
+  std::unique_ptr<double[]> cost_;             // [n][i - 1], i = 1..width
+  std::unique_ptr<std::uint8_t[]> split_;      // [n][i - 1]: k, or 0 for cost[n][i - 1]
+  std::unique_ptr<std::uint8_t[]> node_split_; // k of distribute(n, width)
+  std::unique_ptr<std::uint8_t[]> as_leaf_;    // cost[n][1] is leaf(n)
 };
 // [/listing:sah_collapse]
 
@@ -185,91 +290,254 @@ private:
 // The greedy collapse: start from the binary node's two children and open the one with the
 // largest box (replace it by its own two children) until the node has `width` children or
 // only binary leaves are left. The binary leaves are the wide leaves.
-Picks greedy_children(const std::vector<Entry>& entries, int n, int width) {
-  Picks out{{entries[n].child[0], false}, {entries[n].child[1], false}};
-  while (static_cast<int>(out.size()) < width) {
+Picks greedy_children(const BinaryTree& tree, int n, int width) {
+  Picks out;
+  out.push({BinaryTree::edge(n, 0), false});
+  out.push({BinaryTree::edge(n, 1), false});
+  while (out.count < width) {
     int largest = -1;
-    for (int k = 0; k < static_cast<int>(out.size()); ++k)
-      if (!entries[out[k].entry].leaf() &&
-          (largest < 0 || ch07::half_area_of(entries[out[k].entry].box) >
-                              ch07::half_area_of(entries[out[largest].entry].box)))
+    for (int k = 0; k < out.count; ++k)
+      if (!tree.leaf(out.pick[k].edge) &&
+          (largest < 0 || ch07::half_area_of(tree.box(out.pick[k].edge)) >
+                              ch07::half_area_of(tree.box(out.pick[largest].edge))))
         largest = k;
     if (largest < 0) break;
-    const Entry& opened = entries[out[largest].entry];
-    out[largest] = {opened.child[0], false};
-    out.push_back({opened.child[1], false});
+    const int opened = tree.child_node(out.pick[largest].edge);
+    out.pick[largest] = {BinaryTree::edge(opened, 0), false};
+    out.push({BinaryTree::edge(opened, 1), false});
   }
-  for (Pick& p : out) p.leaf = entries[p.entry].leaf();
+  for (int k = 0; k < out.count; ++k) out.pick[k].leaf = tree.leaf(out.pick[k].edge);
   return out;
 }
 // [/listing:greedy_collapse]
 
-// Lays the chosen children out, depth first: a node's interior children get consecutive
-// nodes, its leaves consecutive triangles, both in slot order.
-class Layout {
-public:
-  Layout(const ch07::Bvh& binary, const std::vector<Entry>& entries, WideLayout& out)
-      : binary_(binary), entries_(entries), out_(out) {}
+// A piece of the wide tree as one thread writes it: nodes and triangles numbered from 0.
+struct Fragment {
+  std::vector<SlotNode> nodes;
+  std::vector<TriangleF> triangles;
+  std::vector<int> triangle_ids;
+};
 
-  template <class ChildrenOf>
-  void emit(int node, const Picks& picks, ChildrenOf children_of, int depth) {
-    out_.stats.depth = std::max(out_.stats.depth, depth);
+// A wide subtree left to the threads: its root `node` of the top (made of `edge`) has its box;
+// the rest is written into `fragment`, whose node 0 is that root. `position` and
+// `triangle_position` are the top's node and triangle counts when it was handed out: in the
+// serial depth-first order, its nodes and triangles come right there.
+struct WideSubtree {
+  int node = 0, edge = 0, depth = 0;
+  int position = 0, triangle_position = 0;
+  Fragment fragment;
+  int start = 0, triangle_start = 0; // where its nodes and triangles begin in the whole tree
+};
+
+// Lays the chosen children out, depth first: a node's interior children get consecutive
+// nodes, its leaves consecutive triangles, both in slot order. With a `handoff`, the top of
+// the tree does not descend into a wide child of at most that many references: it becomes a
+// WideSubtree, laid out later by a thread of its own.
+template <class ChildrenOf> class Layout {
+public:
+  Layout(const BinaryTree& tree, ChildrenOf children_of, Fragment& out, int handoff = 0,
+         std::vector<WideSubtree>* subtrees = nullptr)
+      : tree_(tree), children_of_(children_of), out_(out), handoff_(handoff),
+        subtrees_(subtrees) {}
+
+  void emit(int node, const Picks& picks, int depth) {
     if (depth > k_wide_stack_size)
       throw Error("collapse: a node at depth " + std::to_string(depth) +
                   " is beyond the traversal stack's bound");
     Aabb boxes[k_slots] = {};
-    for (std::size_t c = 0; c < picks.size(); ++c) boxes[c] = entries_[picks[c].entry].box;
+    for (int c = 0; c < picks.count; ++c) boxes[c] = tree_.box(picks.pick[c].edge);
     int slot_of[k_slots];
-    assign_slots(out_.nodes[node].box, boxes, (1u << picks.size()) - 1u, slot_of);
+    assign_slots(out_.nodes[node].box, boxes, (1u << picks.count) - 1u, slot_of);
     int in_slot[k_slots];
     std::fill(std::begin(in_slot), std::end(in_slot), -1);
-    for (int c = 0; c < static_cast<int>(picks.size()); ++c) in_slot[slot_of[c]] = c;
+    for (int c = 0; c < picks.count; ++c) in_slot[slot_of[c]] = c;
 
     SlotNode n = out_.nodes[node];
     n.child_base = static_cast<int>(out_.nodes.size());
     n.triangle_base = static_cast<int>(out_.triangles.size());
-    std::vector<std::pair<int, int>> interior; // (node, entry), in slot order
+    if (subtrees_) {
+      subtrees_before_.resize(out_.nodes.size());
+      subtrees_before_[node] = static_cast<int>(subtrees_->size());
+    }
+    std::pair<int, int> interior[k_slots]; // (node, edge), in slot order
+    int interior_count = 0;
     for (int s = 0; s < k_slots; ++s) {
       if (in_slot[s] < 0) continue;
-      const Pick& p = picks[in_slot[s]];
-      const Entry& e = entries_[p.entry];
-      n.child_box[s] = e.box;
+      const Pick& p = picks.pick[in_slot[s]];
+      n.child_box[s] = tree_.box(p.edge);
       if (p.leaf) {
-        n.meta[s] =
-            leaf_meta(e.distinct, static_cast<int>(out_.triangles.size()) - n.triangle_base);
-        for (int k = e.first; k < e.first + e.count; ++k) {
-          if (!first_in_range(binary_.triangle_ids, e.first, k)) continue;
-          out_.triangles.push_back(binary_.triangles[k]);
-          out_.triangle_ids.push_back(binary_.triangle_ids[k]);
+        const int first = tree_.first(p.edge), count = tree_.count(p.edge);
+        const std::vector<int>& ids = tree_.triangle_ids();
+        n.meta[s] = leaf_meta(distinct_triangles(ids, first, count),
+                              static_cast<int>(out_.triangles.size()) - n.triangle_base);
+        for (int k = first; k < first + count; ++k) {
+          if (!first_in_range(ids, first, k)) continue;
+          out_.triangles.push_back(tree_.triangles()[k]);
+          out_.triangle_ids.push_back(ids[k]);
         }
-        ++out_.stats.leaves;
-        sah_ += ch07::half_area_of(e.box) * e.distinct * k_triangle_cost;
       } else {
         n.meta[s] = interior_meta(s);
         n.imask = static_cast<std::uint8_t>(n.imask | (1u << s));
-        interior.emplace_back(static_cast<int>(out_.nodes.size()), p.entry);
+        interior[interior_count++] = {static_cast<int>(out_.nodes.size()), p.edge};
         SlotNode child;
-        child.box = e.box;
+        child.box = tree_.box(p.edge);
         out_.nodes.push_back(child);
       }
     }
     out_.nodes[node] = n;
-    children_ += static_cast<long long>(picks.size());
-    sah_ += ch07::half_area_of(n.box) * k_node_cost;
-    for (const auto& [child, entry] : interior)
-      emit(child, children_of(entry), children_of, depth + 1);
+    for (int k = 0; k < interior_count; ++k) {
+      const auto [child, edge] = interior[k];
+      if (subtrees_ && tree_.count(edge) <= handoff_) {
+        WideSubtree& subtree = subtrees_->emplace_back();
+        subtree.node = child;
+        subtree.edge = edge;
+        subtree.depth = depth + 1;
+        subtree.position = static_cast<int>(out_.nodes.size());
+        subtree.triangle_position = static_cast<int>(out_.triangles.size());
+      } else {
+        emit(child, children_of_(tree_.child_node(edge)), depth + 1);
+      }
+    }
   }
 
-  double sah() const { return sah_; }
-  long long children() const { return children_; }
+  // How many subtrees had been handed out when each node of the top got its child_base and
+  // triangle_base.
+  const std::vector<int>& subtrees_before() const { return subtrees_before_; }
 
 private:
-  const ch07::Bvh& binary_;
-  const std::vector<Entry>& entries_;
-  WideLayout& out_;
-  double sah_ = 0.0; // unnormalised: areas, not area ratios
-  long long children_ = 0;
+  const BinaryTree& tree_;
+  ChildrenOf children_of_;
+  Fragment& out_;
+  int handoff_;
+  std::vector<WideSubtree>* subtrees_;
+  std::vector<int> subtrees_before_;
 };
+
+// [listing:wide_splice]
+// The whole layout in the serial depth-first order: the top's nodes and triangles, with each
+// subtree's inserted where the top had `position` nodes and `triangle_position` triangles, and
+// every number shifted to match. A subtree's root stays where its parent put it, in the top; a
+// number a node of the top wrote is shifted by the subtrees handed out before it wrote it.
+void splice(Fragment& top, std::vector<WideSubtree>& subtrees, std::vector<int> subtrees_before,
+            int threads, WideLayout& out) {
+  const std::size_t count = subtrees.size();
+  std::vector<int> node_shift(count + 1, 0), triangle_shift(count + 1, 0);
+  for (std::size_t t = 0; t < count; ++t) {
+    const Fragment& f = subtrees[t].fragment;
+    node_shift[t + 1] = node_shift[t] + static_cast<int>(f.nodes.size()) - 1;
+    triangle_shift[t + 1] = triangle_shift[t] + static_cast<int>(f.triangles.size());
+    subtrees[t].start = subtrees[t].position + node_shift[t];
+    subtrees[t].triangle_start = subtrees[t].triangle_position + triangle_shift[t];
+  }
+  const int top_nodes = static_cast<int>(top.nodes.size());
+  const int top_triangles = static_cast<int>(top.triangles.size());
+  out.nodes.resize(std::size_t(top_nodes) + node_shift[count]);
+  out.triangles.resize(std::size_t(top_triangles) + triangle_shift[count]);
+  out.triangle_ids.resize(out.triangles.size());
+  subtrees_before.resize(top.nodes.size(), 0);
+  std::vector<int> index_of(top_nodes);
+  for (int j = 0, t = 0; j < top_nodes; ++j) {
+    for (; t < int(count) && subtrees[t].position <= j; ++t) {
+    }
+    index_of[j] = j + node_shift[t];
+    SlotNode node = top.nodes[j];
+    node.child_base += node_shift[subtrees_before[j]];
+    node.triangle_base += triangle_shift[subtrees_before[j]];
+    out.nodes[index_of[j]] = node;
+  }
+  for (int k = 0, t = 0; k < top_triangles; ++k) {
+    for (; t < int(count) && subtrees[t].triangle_position <= k; ++t) {
+    }
+    out.triangles[k + triangle_shift[t]] = top.triangles[k];
+    out.triangle_ids[k + triangle_shift[t]] = top.triangle_ids[k];
+  }
+  for_each_index_rethrow(count, threads, [&](std::size_t t) {
+    const WideSubtree& subtree = subtrees[t];
+    const Fragment& f = subtree.fragment;
+    for (std::size_t k = 0; k < f.nodes.size(); ++k) {
+      SlotNode node = f.nodes[k];
+      node.child_base += subtree.start - 1; // the fragment's node 1 is the subtree's start
+      node.triangle_base += subtree.triangle_start;
+      out.nodes[k == 0 ? index_of[subtree.node] : subtree.start + k - 1] = node;
+    }
+    std::copy(f.triangles.begin(), f.triangles.end(),
+              out.triangles.begin() + subtree.triangle_start);
+    std::copy(f.triangle_ids.begin(), f.triangle_ids.end(),
+              out.triangle_ids.begin() + subtree.triangle_start);
+  });
+}
+// [/listing:wide_splice]
+
+// The layout's stats, from its nodes, in the order the serial layout visits them (depth first,
+// a node's leaves before its own cost): the SAH cost is a sum of doubles, and a sum taken in
+// another order may round to another last bit.
+void layout_stats(const WideLayout& layout, double root_area, WideStats& stats) {
+  double sah = 0.0; // unnormalised: areas, not area ratios
+  long long children = 0;
+  const auto visit = [&](const auto& self, int i, int depth) -> void {
+    const SlotNode& node = layout.nodes[i];
+    stats.depth = std::max(stats.depth, depth);
+    for (int s = 0; s < k_slots; ++s) {
+      if (node.meta[s] == 0) continue;
+      ++children;
+      if (is_interior_meta(node.meta[s])) continue;
+      ++stats.leaves;
+      sah += ch07::half_area_of(node.child_box[s]) *
+             std::popcount(unsigned(node.meta[s]) >> 5) * k_triangle_cost;
+    }
+    sah += ch07::half_area_of(node.box) * k_node_cost;
+    int child = node.child_base;
+    for (int s = 0; s < k_slots; ++s)
+      if (node.imask & (1u << s)) self(self, child++, depth + 1);
+  };
+  visit(visit, 0, 0);
+  stats.references = static_cast<long long>(layout.triangles.size());
+  stats.nodes = static_cast<int>(layout.nodes.size());
+  stats.children_per_node = double(children) / double(stats.nodes);
+  stats.triangles_per_leaf =
+      double(layout.triangles.size()) / double(std::max(1, stats.leaves));
+  stats.sah_cost = root_area > 0.0 ? sah / root_area : sah;
+}
+
+// [listing:collapse_on_threads]
+// The layout from the root's children: on one thread all of it depth first; on several, the
+// top depth first with the subtrees of at most `handoff` references handed out, then the
+// subtrees, each by one thread into a fragment of its own, then the splice.
+template <class ChildrenOf>
+void lay_out(const BinaryTree& tree, const Picks& root_picks, ChildrenOf children_of,
+             int threads, WideLayout& out) {
+  Fragment top;
+  top.nodes.push_back(out.nodes[0]);
+  const int references = static_cast<int>(tree.triangle_ids().size());
+  if (threads == 1) {
+    top.nodes.reserve(std::size_t(references) / 2);
+    top.triangles.reserve(tree.triangles().size());
+    top.triangle_ids.reserve(tree.triangles().size());
+    Layout(tree, children_of, top).emit(0, root_picks, 0);
+    out.nodes = std::move(top.nodes);
+    out.triangles = std::move(top.triangles);
+    out.triangle_ids = std::move(top.triangle_ids);
+    return;
+  }
+  const int handoff = std::max(k_min_piece, references / (k_pieces_per_thread * threads));
+  std::vector<WideSubtree> subtrees;
+  Layout top_layout(tree, children_of, top, handoff, &subtrees);
+  top_layout.emit(0, root_picks, 0);
+  std::vector<int> order(subtrees.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return tree.count(subtrees[a].edge) > tree.count(subtrees[b].edge);
+  });
+  for_each_index_rethrow(order.size(), threads, [&](std::size_t k) {
+    WideSubtree& subtree = subtrees[order[k]];
+    Fragment& f = subtree.fragment;
+    f.nodes.push_back(top.nodes[subtree.node]);
+    Layout(tree, children_of, f)
+        .emit(0, children_of(tree.child_node(subtree.edge)), subtree.depth);
+  });
+  splice(top, subtrees, top_layout.subtrees_before(), threads, out);
+}
+// [/listing:collapse_on_threads]
 
 } // namespace
 
@@ -286,40 +554,48 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method) {
                      std::to_string(width));
   WideLayout out;
   out.width = width;
+  out.threads = binary.options.threads > 0 ? binary.options.threads : cpu_thread_count();
   out.stats.split = binary.options.method;
   out.stats.triangles = binary.stats.triangles;
-  const Entries entries(binary);
-  const std::vector<Entry>& all = entries.all();
-  for (const Entry& e : all)
-    if (e.leaf() && e.count > k_max_leaf_triangles)
-      throw InputError("collapse: a binary leaf of " + std::to_string(e.count) +
-                       " triangles; a wide leaf holds at most " +
-                       std::to_string(k_max_leaf_triangles));
-  if (all.empty()) return out;
+  // The first binary leaf too large, in leaf order (its references come first).
+  int too_large = -1, too_large_first = 0;
+  for (const ch07::BvhNode& node : binary.nodes)
+    for (int c = 0; c < 2; ++c)
+      if (node.is_leaf(c) && node.count[c] > k_max_leaf_triangles &&
+          (too_large < 0 || node.first[c] < too_large_first)) {
+        too_large = node.count[c];
+        too_large_first = node.first[c];
+      }
+  if (too_large >= 0)
+    throw InputError("collapse: a binary leaf of " + std::to_string(too_large) +
+                     " triangles; a wide leaf holds at most " +
+                     std::to_string(k_max_leaf_triangles));
+  if (binary.nodes.empty()) return out;
 
   SlotNode root;
   root.box = binary.bounds;
   out.nodes.push_back(root);
-  Layout layout(binary, all, out);
-  if (all[0].leaf()) { // the whole mesh is one leaf: a root with that leaf alone
-    const auto no_children = [](int) { return Picks{}; };
-    layout.emit(0, {{0, true}}, no_children, 0);
+  BinaryTree tree(binary);
+  const ch07::BvhNode& top = binary.nodes[0];
+  // The whole mesh in one leaf: chapter 07 stores a root whose child 0 is that leaf and whose
+  // child 1 is empty (no triangles, no node: first -1). A child 1 of no triangles with a node
+  // number is an interior child, beside a leaf child 0.
+  if (top.is_leaf(0) && top.count[1] == 0 && top.first[1] < 0) { // a root with that leaf alone
+    Picks alone;
+    alone.push({BinaryTree::edge(0, 0), true});
+    lay_out(
+        tree, alone, [](int) { return Picks{}; }, 1, out);
   } else if (method == Collapse::sah) {
-    const SahCollapse sah(all, width);
+    const SahCollapse sah(tree, width, out.threads);
     const auto children_of = [&](int n) { return sah.children(n); };
-    layout.emit(0, children_of(0), children_of, 0);
+    lay_out(tree, children_of(0), children_of, out.threads, out);
   } else {
-    const auto children_of = [&](int n) { return greedy_children(all, n, width); };
-    layout.emit(0, children_of(0), children_of, 0);
+    visit_bottom_up(tree, out.threads, [&](int n) { tree.set_range(n); });
+    const auto children_of = [&](int n) { return greedy_children(tree, n, width); };
+    lay_out(tree, children_of(0), children_of, out.threads, out);
   }
-  WideStats& s = out.stats;
-  s.references = static_cast<long long>(out.triangles.size());
-  s.nodes = static_cast<int>(out.nodes.size());
-  s.children_per_node = double(layout.children()) / double(s.nodes);
-  s.triangles_per_leaf = double(out.triangles.size()) / double(std::max(1, s.leaves));
-  const double root_area = ch07::half_area_of(binary.bounds);
-  s.sah_cost = root_area > 0.0 ? layout.sah() / root_area : layout.sah();
-  s.build_ms =
+  layout_stats(out, ch07::half_area_of(binary.bounds), out.stats);
+  out.stats.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
           .count();
   return out;

@@ -5,12 +5,16 @@
 // octant slots, interior children consecutive, each node's leaf triangles consecutive.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <exception>
+#include <mutex>
 #include <string>
 #include <vector>
 
 #include "bvh.h"
 #include "mesh_gen.h"
+#include "rt/launch.h"
 #include "wide_bvh.h"
 
 namespace rt::ch09 {
@@ -41,6 +45,9 @@ struct WideLayout {
   std::vector<TriangleF> triangles; // the leaves' references, in the order of the wide leaves
   std::vector<int> triangle_ids;    // the mesh's number of each
   WideStats stats;                  // bytes_per_triangle is the stored layout's: 0 here
+  // The threads it was collapsed on, and the stored layouts are written on (0: the CPU
+  // backend's). Which thread writes what changes nothing in what is written.
+  int threads = 0;
 };
 
 // The binary tree each collapse starts from: chapter 07's build with `base`'s split method
@@ -49,11 +56,13 @@ struct WideLayout {
 // k_max_leaf_triangles for the greedy one (its leaves are kept).
 ch07::BuildOptions binary_options(Collapse collapse, const ch07::BuildOptions& base);
 
-// `binary` collapsed into nodes of at most `width` (2..8) children. Throws InputError for a
-// width out of range or a binary leaf of more than k_max_leaf_triangles triangles. A wide
-// child's box is the binary tree's box of the entry it is made of, never recomputed from the
-// triangles: from an sbvh tree that is the clipped box, smaller than its triangles' boxes.
-// A wide leaf made of several binary leaves holds a triangle they share once.
+// `binary` collapsed into nodes of at most `width` (2..8) children, on the binary build's
+// threads (`binary.options.threads`; 0: the CPU backend's), the same layout bit for bit for
+// any count. Throws InputError for a width out of range or a binary leaf of more than
+// k_max_leaf_triangles triangles. A wide child's box is the binary tree's box of the entry it
+// is made of, never recomputed from the triangles: from an sbvh tree that is the clipped box,
+// smaller than its triangles' boxes. A wide leaf made of several binary leaves holds a
+// triangle they share once.
 WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method);
 
 // The whole build from a mesh: chapter 07's binary tree, then the collapse; build_ms counts
@@ -61,9 +70,10 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method);
 WideLayout build_wide_layout(const ch04::Mesh& mesh, int width, Collapse method,
                              const ch07::BuildOptions& base = {});
 
-// The stored layouts. pack_wide<N> needs a layout of width <= N (N = 4 or 8; with
-// PackedTriangles N = 4 only); compress one of width <= 8. Both throw InputError when a node's
-// box cannot be stored (compress: wider than 255 * 2^120, about 3.4e38).
+// The stored layouts, written on `layout.threads` threads. pack_wide<N> needs a layout of width
+// <= N (N = 4 or 8; with PackedTriangles N = 4 only); compress one of width <= 8. Both throw
+// InputError when a node's box cannot be stored (compress: wider than 255 * 2^120,
+// about 3.4e38).
 template <int N, class Triangles = AlignedTriangles>
 WideTree<WideNode<N>, Triangles> pack_wide(const WideLayout& layout);
 CompressedBvh compress(const WideLayout& layout);
@@ -102,5 +112,30 @@ template <class Node, class Triangles>
 std::vector<std::string> check_wide_tree(const WideTree<Node, Triangles>& tree,
                                          const ch04::Mesh& mesh,
                                          const ch07::BuildOptions& binary = {});
+
+// fn(i) for every i in 0 .. count - 1 on `threads` threads (rt/launch.h's for_each_index_cpu),
+// for work that may throw: an exception leaving fn on another thread would end the program, so
+// each is caught, and once all are done the one of the lowest i, the one a loop on one thread
+// would have met first, is thrown again here.
+template <class Fn> void for_each_index_rethrow(std::size_t count, int threads, Fn fn) {
+  std::mutex mutex;
+  std::size_t failed_at = count;
+  std::exception_ptr failure;
+  for_each_index_cpu(
+      count,
+      [&](std::size_t i) {
+        try {
+          fn(i);
+        } catch (...) {
+          const std::lock_guard lock(mutex);
+          if (i < failed_at) {
+            failed_at = i;
+            failure = std::current_exception();
+          }
+        }
+      },
+      threads, "parts");
+  if (failure) std::rethrow_exception(failure);
+}
 
 } // namespace rt::ch09
