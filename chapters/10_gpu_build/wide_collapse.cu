@@ -41,6 +41,7 @@ struct CollapseView {
   int* wide_index; // of a wide node: its number in the wide tree
   WideNode<k_width>* out_nodes;
   float2* out_records;
+  int* sources; // per record: the binary leaf order's triangle it copies
 };
 
 // A child of a wide node: a leaf (node -1) of the triangles first .. first + count - 1, or
@@ -174,7 +175,10 @@ struct NumberChildren {
   }
 };
 
-// Pass 4: each wide node written at its number, its leaves' triangles from its triangle_base.
+// Pass 4: each wide node written at its number, and for each of its leaves' triangles, from
+// its triangle_base, the place of the triangle to copy there; pass 5 copies them, a thread per
+// record, where a thread of this pass would copy up to twelve 40-byte records one after
+// another while the three threads in four that hold no wide node wait.
 struct WriteWideNodes {
   CollapseView t;
   RT_HD void operator()(int i) const {
@@ -196,12 +200,22 @@ struct WriteWideNodes {
       }
       node.meta[p] = ch09::leaf_meta(child.count, offset);
       for (int k = 0; k < child.count; ++k, ++offset)
-        ch09::PackedTriangles::write(
-            t.out_records + ch09::PackedTriangles::k_records * (node.triangle_base + offset),
-            t.triangles != nullptr ? t.triangles[child.first + k] : TriangleF{},
-            t.triangle_ids[child.first + k]);
+        t.sources[node.triangle_base + offset] = child.first + k;
     });
     t.out_nodes[t.wide_index[i]] = node;
+  }
+};
+
+// Pass 5: a thread per record, its triangle copied from where pass 4 said. Neighbouring
+// records come from neighbouring triangles (both orders are depth first), so the reads as well
+// as the writes of a warp fall on few cache lines.
+struct GatherRecords {
+  CollapseView t;
+  RT_HD void operator()(int k) const {
+    const int from = t.sources[k];
+    ch09::PackedTriangles::write(t.out_records + ch09::PackedTriangles::k_records * k,
+                                 t.triangles != nullptr ? t.triangles[from] : TriangleF{},
+                                 t.triangle_ids[from]);
   }
 };
 
@@ -256,6 +270,7 @@ WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size)
       interior_offsets_(backend, capacity_), triangle_offsets_(backend, capacity_),
       wide_index_(backend, capacity_), wide_total_(backend, 1), nodes_(backend, capacity_),
       records_(backend, std::size_t(5) * std::max(1, triangle_count)),
+      sources_(backend, std::max(1, triangle_count)),
       scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0) {
   if (leaf_size < 1 || leaf_size > k_wide_leaf_triangles)
     throw UsageError("a wide leaf takes 1 to " + std::to_string(k_wide_leaf_triangles) +
@@ -289,13 +304,15 @@ void WideCollapse::run(const BvhNode* nodes, const int* parents, int node_count,
                        triangle_offsets_.data(),
                        wide_index_.data(),
                        nodes_.data(),
-                       records_.data()};
+                       records_.data(),
+                       sources_.data()};
   for_each_index(backend_, n, MeasureNodes{t});
   for_each_index(backend_, n, CountChildren{t});
   exclusive_scan(backend_, interior_counts_, interior_offsets_, scratch_, n);
   exclusive_scan(backend_, leaf_counts_, triangle_offsets_, scratch_, n);
   for_each_index(backend_, n, NumberChildren{t});
   for_each_index(backend_, n, WriteWideNodes{t});
+  for_each_index(backend_, triangle_count_, GatherRecords{t});
   for_each_index(backend_, 1,
                  CountWideNodes{interior_offsets_.data(), interior_counts_.data(), n - 1,
                                 wide_total_.data()});

@@ -44,6 +44,7 @@ private:
       interior_offsets_, triangle_offsets_, wide_index_, wide_total_;
   BackendArray<ch09::WideNode<4>> nodes_;
   BackendArray<float2> records_;
+  BackendArray<int> sources_; // per record: its triangle's place in the binary leaf order
   BackendArray<unsigned char> scratch_;
 };
 
