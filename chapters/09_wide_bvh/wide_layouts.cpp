@@ -7,10 +7,17 @@
 
 #include "collapse.h"
 #include "cpu_tree.h"
+#include "rt/backend.h"
 #include "rt/error.h"
+#include "rt/launch.h"
 
 namespace rt::ch09 {
 namespace {
+
+// The threads a layout is stored on: the collapse's.
+int threads_of(const WideLayout& layout) {
+  return layout.threads > 0 ? layout.threads : cpu_thread_count();
+}
 
 // The layout's triangles as nine columns (v0.x v0.y v0.z v1.x ... v2.z), padded so that a
 // read of eight from any triangle stays inside; returns the column stride.
@@ -18,12 +25,15 @@ int write_columns(const WideLayout& layout, std::vector<float>& columns) {
   const int count = static_cast<int>(layout.triangles.size());
   const int stride = (count + 2 * 8 - 1) / 8 * 8;
   columns.assign(9 * static_cast<std::size_t>(stride), 0.0f);
-  for (int k = 0; k < count; ++k) {
-    const TriangleF& t = layout.triangles[k];
-    const Vec3f v[3] = {t.v0, t.v1, t.v2};
-    for (int c = 0; c < 9; ++c)
-      columns[static_cast<std::size_t>(c) * stride + k] = v[c / 3][c % 3];
-  }
+  for_each_index_cpu(
+      static_cast<std::size_t>(count),
+      [&](std::size_t k) {
+        const TriangleF& t = layout.triangles[k];
+        const Vec3f v[3] = {t.v0, t.v1, t.v2};
+        for (int c = 0; c < 9; ++c)
+          columns[static_cast<std::size_t>(c) * stride + k] = v[c / 3][c % 3];
+      },
+      threads_of(layout), "triangles");
   return stride;
 }
 
@@ -47,9 +57,13 @@ template <class Node, class Triangles>
 void finish(WideTree<Node, Triangles>& tree, const WideLayout& layout,
             std::chrono::steady_clock::time_point start) {
   tree.triangles.resize(layout.triangles.size() * Triangles::k_records);
-  for (std::size_t k = 0; k < layout.triangles.size(); ++k)
-    Triangles::write(&tree.triangles[k * Triangles::k_records], layout.triangles[k],
-                     layout.triangle_ids[k]);
+  for_each_index_cpu(
+      layout.triangles.size(),
+      [&](std::size_t k) {
+        Triangles::write(&tree.triangles[k * Triangles::k_records], layout.triangles[k],
+                         layout.triangle_ids[k]);
+      },
+      threads_of(layout), "triangles");
   tree.column_stride = write_columns(layout, tree.columns);
   tree.stats = stored_stats(layout, start,
                             double(tree.nodes.size() * sizeof(Node) +
@@ -74,20 +88,24 @@ WideTree<WideNode<N>, Triangles> pack_wide(const WideLayout& layout) {
                      " does not fit nodes of " + std::to_string(N));
   const auto start = std::chrono::steady_clock::now();
   WideTree<WideNode<N>, Triangles> tree;
-  tree.nodes.reserve(layout.nodes.size());
-  for (const SlotNode& from : layout.nodes) {
-    WideNode<N> node{};
-    int slots[k_slots];
-    const int count = used_slots(from, slots);
-    for (int c = 0; c < N; ++c) {
-      set_child_box(node, c, c < count ? from.child_box[slots[c]] : Aabb{});
-      node.meta[c] = c < count ? from.meta[slots[c]] : 0;
-    }
-    node.child_base = from.child_base;
-    node.triangle_base = from.triangle_base;
-    node.imask = from.imask;
-    tree.nodes.push_back(node);
-  }
+  tree.nodes.resize(layout.nodes.size());
+  // Each node from its own slot node, into its own place: the nodes are shared by the threads.
+  for_each_index_cpu(
+      layout.nodes.size(),
+      [&](std::size_t i) {
+        const SlotNode& from = layout.nodes[i];
+        WideNode<N>& node = tree.nodes[i];
+        int slots[k_slots];
+        const int count = used_slots(from, slots);
+        for (int c = 0; c < N; ++c) {
+          set_child_box(node, c, c < count ? from.child_box[slots[c]] : Aabb{});
+          node.meta[c] = c < count ? from.meta[slots[c]] : 0;
+        }
+        node.child_base = from.child_base;
+        node.triangle_base = from.triangle_base;
+        node.imask = from.imask;
+      },
+      threads_of(layout), "nodes");
   finish(tree, layout, start);
   return tree;
 }
@@ -101,57 +119,73 @@ template Wide4PackedBvh pack_wide<4, PackedTriangles>(const WideLayout&);
 // child's word written out. An interior child in slot s is node child_base plus the interior
 // children in the slots below s; a leaf's meta byte gives its triangles' bits. Each node's
 // triangles are copied to blocks of their own, in the same order, so the bits still count
-// from the node's (new) triangle_base.
+// from the node's (new) triangle_base. A first pass counts each node's blocks, a sum over the
+// nodes in order places them, and a second pass writes every node and its blocks: each into
+// its own place, so the threads share both passes and the tree is the same for any count.
 CpuTree pack_cpu(const WideLayout& layout) {
   if (layout.width > k_slots)
     throw InputError("a layout of width " + std::to_string(layout.width) +
                      " does not fit the CPU's nodes of 8");
   const auto start = std::chrono::steady_clock::now();
-  CpuTree tree;
-  tree.nodes.reserve(layout.nodes.size());
-  int slots_used = 0; // triangle slots written, padding included
-  for (const SlotNode& from : layout.nodes) {
-    CpuNode node{};
-    int slots[k_slots];
-    const int count = used_slots(from, slots);
+  const int threads = threads_of(layout);
+  const std::size_t node_count = layout.nodes.size();
+  // A node's triangles: triangle_base .. + 31 - countl_zero(its leaves' bits).
+  const auto leaf_bits = [](const SlotNode& from) {
     unsigned all_leaves = 0;
-    for (int c = 0; c < k_slots; ++c) {
-      const Aabb box = c < count ? from.child_box[slots[c]] : Aabb{};
-      node.lo_x[c] = box.lo.x;
-      node.lo_y[c] = box.lo.y;
-      node.lo_z[c] = box.lo.z;
-      node.hi_x[c] = box.hi.x;
-      node.hi_y[c] = box.hi.y;
-      node.hi_z[c] = box.hi.z;
-      node.child[c] = cpu_leaf_child(0); // empty: a leaf of no triangles
-      if (c >= count) continue;
-      const std::uint8_t meta = from.meta[slots[c]];
-      const unsigned below = from.imask & ((1u << slots[c]) - 1u);
-      if (is_interior_meta(meta)) {
-        node.child[c] = from.child_base + std::popcount(below);
-      } else {
-        node.child[c] = cpu_leaf_child(meta_bits(meta, 0));
-        all_leaves |= meta_bits(meta, 0);
-      }
-    }
-    // This node's triangles: triangle_base .. + 31 - countl_zero(all_leaves), to new blocks.
-    const int triangles = 32 - std::countl_zero(all_leaves);
-    node.triangle_base = slots_used;
-    const int blocks = (triangles + k_block_triangles - 1) / k_block_triangles;
-    tree.columns.resize(tree.columns.size() + std::size_t(blocks) * k_block_floats, 0.0f);
-    tree.ids.resize(tree.ids.size() + std::size_t(blocks) * k_block_triangles, -1);
-    for (int k = 0; k < triangles; ++k) {
-      const int slot = slots_used + k, from_k = from.triangle_base + k;
-      const TriangleF& t = layout.triangles[from_k];
-      const Vec3f v[3] = {t.v0, t.v1, t.v2};
-      float* block = &tree.columns[std::size_t(slot / k_block_triangles) * k_block_floats];
-      for (int c = 0; c < 9; ++c)
-        block[c * k_block_triangles + slot % k_block_triangles] = v[c / 3][c % 3];
-      tree.ids[slot] = layout.triangle_ids[from_k];
-    }
-    slots_used += blocks * k_block_triangles;
-    tree.nodes.push_back(node);
-  }
+    for (int s = 0; s < k_slots; ++s)
+      if (from.meta[s] != 0 && !is_interior_meta(from.meta[s]))
+        all_leaves |= meta_bits(from.meta[s], 0);
+    return all_leaves;
+  };
+  std::vector<int> block_start(node_count + 1, 0); // each node's first block
+  for_each_index_cpu(
+      node_count,
+      [&](std::size_t i) {
+        const int triangles = 32 - std::countl_zero(leaf_bits(layout.nodes[i]));
+        block_start[i + 1] = (triangles + k_block_triangles - 1) / k_block_triangles;
+      },
+      threads, "nodes");
+  for (std::size_t i = 0; i < node_count; ++i) block_start[i + 1] += block_start[i];
+  CpuTree tree;
+  tree.nodes.resize(node_count);
+  tree.columns.resize(std::size_t(block_start[node_count]) * k_block_floats, 0.0f);
+  tree.ids.resize(std::size_t(block_start[node_count]) * k_block_triangles, -1);
+  for_each_index_cpu(
+      node_count,
+      [&](std::size_t i) {
+        const SlotNode& from = layout.nodes[i];
+        CpuNode& node = tree.nodes[i];
+        int slots[k_slots];
+        const int count = used_slots(from, slots);
+        for (int c = 0; c < k_slots; ++c) {
+          const Aabb box = c < count ? from.child_box[slots[c]] : Aabb{};
+          node.lo_x[c] = box.lo.x;
+          node.lo_y[c] = box.lo.y;
+          node.lo_z[c] = box.lo.z;
+          node.hi_x[c] = box.hi.x;
+          node.hi_y[c] = box.hi.y;
+          node.hi_z[c] = box.hi.z;
+          node.child[c] = cpu_leaf_child(0); // empty: a leaf of no triangles
+          if (c >= count) continue;
+          const std::uint8_t meta = from.meta[slots[c]];
+          const unsigned below = from.imask & ((1u << slots[c]) - 1u);
+          node.child[c] = is_interior_meta(meta) ? from.child_base + std::popcount(below)
+                                                 : cpu_leaf_child(meta_bits(meta, 0));
+        }
+        const int first_slot = block_start[i] * k_block_triangles;
+        node.triangle_base = first_slot;
+        const int triangles = 32 - std::countl_zero(leaf_bits(from));
+        for (int k = 0; k < triangles; ++k) {
+          const int slot = first_slot + k, from_k = from.triangle_base + k;
+          const TriangleF& t = layout.triangles[from_k];
+          const Vec3f v[3] = {t.v0, t.v1, t.v2};
+          float* block = &tree.columns[std::size_t(slot / k_block_triangles) * k_block_floats];
+          for (int c = 0; c < 9; ++c)
+            block[c * k_block_triangles + slot % k_block_triangles] = v[c / 3][c % 3];
+          tree.ids[slot] = layout.triangle_ids[from_k];
+        }
+      },
+      threads, "nodes");
   tree.stats =
       stored_stats(layout, start,
                    double(tree.nodes.size() * sizeof(CpuNode) +
@@ -218,9 +252,11 @@ CompressedBvh compress(const WideLayout& layout) {
     throw InputError("a compressed node holds 8 children, not " + std::to_string(layout.width));
   const auto start = std::chrono::steady_clock::now();
   CompressedBvh tree;
-  tree.nodes.reserve(layout.nodes.size());
-  for (const SlotNode& from : layout.nodes) {
-    CompressedNode node{};
+  tree.nodes.resize(layout.nodes.size());
+  // A node too wide for its grid throws: the first such node in order is the one named.
+  for_each_index_rethrow(layout.nodes.size(), threads_of(layout), [&](std::size_t i) {
+    const SlotNode& from = layout.nodes[i];
+    CompressedNode& node = tree.nodes[i];
     const AxisGrid grid[3] = {choose_grid(from.box.lo.x, from.box.hi.x),
                               choose_grid(from.box.lo.y, from.box.hi.y),
                               choose_grid(from.box.lo.z, from.box.hi.z)};
@@ -243,8 +279,7 @@ CompressedBvh compress(const WideLayout& layout) {
     node.child_base = from.child_base;
     node.triangle_base = from.triangle_base;
     node.imask = from.imask;
-    tree.nodes.push_back(node);
-  }
+  });
   finish(tree, layout, start);
   return tree;
 }
