@@ -140,24 +140,16 @@ HitAgreement compare_hits(std::span<const MeshHit> hits, std::span<const MeshHit
 
 TraversalWork measure_work(Query query, TriangleVariant variant, const BvhView& bvh,
                            std::span<const RayF> rays) {
-  long long nodes = 0, triangles = 0;
-  int max_stack = 0;
   const CpuWorkName work("counting the traversal's work");
   CpuProgress progress(static_cast<long long>(rays.size()), "rays");
   long long done = 0;
-  for (const RayF& ray : rays) {
+  return average_work(rays, [&](const RayF& ray, Counters& c) {
     progress.update(done++);
-    Counters c;
     if (query == Query::closest)
       trace_bvh<Query::closest>(variant, bvh, ray, c);
     else
       trace_bvh<Query::any>(variant, bvh, ray, c);
-    nodes += c.nodes;
-    triangles += c.triangles;
-    max_stack = std::max(max_stack, c.max_stack);
-  }
-  const double n = rays.empty() ? 1.0 : double(rays.size());
-  return {double(nodes) / n, double(triangles) / n, max_stack};
+  });
 }
 
 } // namespace rt::ch07

@@ -80,6 +80,22 @@ struct TraversalWork {
 TraversalWork measure_work(Query query, TriangleVariant variant, const BvhView& bvh,
                            std::span<const RayF> rays);
 
+// The same for any traversal: trace(ray, counters) traces one ray with chapter 07's counters;
+// the counts are averaged over the batch.
+template <class Trace> TraversalWork average_work(std::span<const RayF> rays, Trace&& trace) {
+  long long nodes = 0, triangles = 0;
+  int max_stack = 0;
+  for (const RayF& ray : rays) {
+    Counters c;
+    trace(ray, c);
+    nodes += c.nodes;
+    triangles += c.triangles;
+    max_stack = std::max(max_stack, c.max_stack);
+  }
+  const double n = rays.empty() ? 1.0 : double(rays.size());
+  return {double(nodes) / n, double(triangles) / n, max_stack};
+}
+
 // Registers per thread of the traversal kernel (cudaFuncGetAttributes); needs a usable GPU.
 int trace_kernel_registers(Query query, TriangleVariant variant);
 

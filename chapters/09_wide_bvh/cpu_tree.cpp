@@ -1,6 +1,4 @@
 // Chapter 09: rays through the CPU's own tree on CPU threads. See cpu_tree.h.
-#include <algorithm>
-
 #include "cpu_traverse.h"
 #include "rt/error.h"
 
@@ -29,20 +27,12 @@ void trace_cpu_tree(Query query, const CpuTreeView& tree, std::span<const RayF> 
 
 ch07::TraversalWork measure_cpu_tree_work(Query query, const CpuTreeView& tree,
                                           std::span<const RayF> rays) {
-  long long nodes = 0, triangles = 0;
-  int max_stack = 0;
-  for (const RayF& ray : rays) {
-    ch07::Counters c;
+  return ch07::average_work(rays, [&](const RayF& ray, ch07::Counters& c) {
     if (query == Query::closest)
       trace_cpu<Query::closest>(tree, ray, c);
     else
       trace_cpu<Query::any>(tree, ray, c);
-    nodes += c.nodes;
-    triangles += c.triangles;
-    max_stack = std::max(max_stack, c.max_stack);
-  }
-  const double n = rays.empty() ? 1.0 : double(rays.size());
-  return {double(nodes) / n, double(triangles) / n, max_stack};
+  });
 }
 
 } // namespace rt::ch09

@@ -51,20 +51,12 @@ void trace_wide_sorted_cpu(Query query, const View& tree, const RaySortFrame& fr
 template <class View>
 ch07::TraversalWork measure_wide_work(Query query, const View& tree,
                                       std::span<const RayF> rays) {
-  long long nodes = 0, triangles = 0;
-  int max_stack = 0;
-  for (const RayF& ray : rays) {
-    ch07::Counters c;
+  return ch07::average_work(rays, [&](const RayF& ray, ch07::Counters& c) {
     if (query == Query::closest)
       trace_wide<Query::closest>(tree, ray, c);
     else
       trace_wide<Query::any>(tree, ray, c);
-    nodes += c.nodes;
-    triangles += c.triangles;
-    max_stack = std::max(max_stack, c.max_stack);
-  }
-  const double n = rays.empty() ? 1.0 : double(rays.size());
-  return {double(nodes) / n, double(triangles) / n, max_stack};
+  });
 }
 
 #define RT_CH09_CPU_LAYOUT(View)                                                               \
