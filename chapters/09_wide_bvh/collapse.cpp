@@ -109,41 +109,63 @@ constexpr int k_pieces_per_thread = 4;
 constexpr int k_min_piece = 2048;
 
 // [listing:bottom_up]
-// visit(n) for every interior node n of the binary tree, each after its interior children.
-// In chapter 07's depth-first order a child's number is larger than its parent's, so on one
-// thread that is the nodes in decreasing number. On several, the subtrees of at most `piece`
-// nodes just below the top are handed to the threads, each visited in decreasing number (a
-// subtree's nodes are consecutive numbers), and then the few nodes above them, one after the
-// other. Each visit reads only what its children's visits wrote, so every node sees the very
-// same values whichever thread visited its children, and when.
-template <class Visit> void visit_bottom_up(const BinaryTree& tree, int threads, Visit visit) {
+// How the interior nodes of the binary tree are visited bottom up, each after its interior
+// children. In chapter 07's depth-first order a child's number is larger than its parent's,
+// and a subtree's nodes are consecutive numbers, so a subtree visited in decreasing number is
+// visited bottom up. On one thread the whole tree is one piece. On several, the subtrees of at
+// most `piece` nodes just below the top are the pieces, handed to the threads, and the few
+// nodes above them (`top`) are visited after, one after the other, in decreasing number. Each
+// visit reads only what its children's visits left, so every node sees the very same values
+// whichever thread visited its children, and when.
+struct BottomUpPlan {
+  std::vector<std::pair<int, int>> pieces; // [first, end) node ranges, largest first
+  std::vector<int> top;                    // in decreasing number
+};
+
+BottomUpPlan plan_bottom_up(const BinaryTree& tree, int threads) {
   const int count = tree.node_count();
   const int piece = std::max(k_min_piece, count / (k_pieces_per_thread * threads));
+  BottomUpPlan plan;
   if (threads == 1 || count <= piece) {
-    for (int n = count - 1; n >= 0; --n) visit(n);
-    return;
+    plan.pieces.emplace_back(0, count);
+    return plan;
   }
-  std::vector<int> top{0}; // the nodes above the pieces, parents before children
-  std::vector<std::pair<int, int>> pieces;
-  for (std::size_t k = 0; k < top.size(); ++k) {
-    const ch07::BvhNode& x = tree.node(top[k]);
+  plan.top.push_back(0); // parents before children while it grows
+  for (std::size_t k = 0; k < plan.top.size(); ++k) {
+    const ch07::BvhNode& x = tree.node(plan.top[k]);
     for (int c = 0; c < 2; ++c) {
       if (x.is_leaf(c)) continue;
       const int child = x.first[c];
-      if (!(child > top[k] && child < count))
+      if (!(child > plan.top[k] && child < count))
         throw Error("collapse: the binary tree is not in depth-first order");
       const int end = tree.subtree_end(child);
-      (end - child <= piece ? void(pieces.emplace_back(child, end)) : top.push_back(child));
+      if (end - child <= piece)
+        plan.pieces.emplace_back(child, end);
+      else
+        plan.top.push_back(child);
     }
   }
-  std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) {
+  std::stable_sort(plan.pieces.begin(), plan.pieces.end(), [](const auto& a, const auto& b) {
     return a.second - a.first > b.second - b.first;
   });
-  for_each_index_rethrow(pieces.size(), threads, [&](std::size_t k) {
-    for (int n = pieces[k].second - 1; n >= pieces[k].first; --n) visit(n);
-  });
-  std::sort(top.begin(), top.end());
-  for (auto n = top.rbegin(); n != top.rend(); ++n) visit(*n);
+  std::sort(plan.top.rbegin(), plan.top.rend());
+  return plan;
+}
+
+// visit(n, part) for every interior node n: part k for the nodes of piece k, pieces.size()
+// for the top.
+template <class Visit>
+void visit_bottom_up(const BottomUpPlan& plan, int threads, Visit visit) {
+  const int top_part = static_cast<int>(plan.pieces.size());
+  const auto visit_piece = [&](std::size_t k) {
+    for (int n = plan.pieces[k].second - 1; n >= plan.pieces[k].first; --n)
+      visit(n, static_cast<int>(k));
+  };
+  if (plan.pieces.size() == 1 && plan.top.empty())
+    visit_piece(0);
+  else
+    for_each_index_rethrow(plan.pieces.size(), threads, visit_piece);
+  for (const int n : plan.top) visit(n, top_part);
 }
 // [/listing:bottom_up]
 
@@ -169,25 +191,40 @@ struct Picks {
 //   cost[n][1]     = min(leaf(n), interior(n))
 //   cost[n][i]     = min(cost[n][i - 1], distribute(n, i))
 // Recording which choice won, a wide node made of n takes distribute(n, width)'s children.
-// An entry is an edge of the binary tree: a binary leaf costs leaf(n) for every i, and an
-// interior node's row is priced when its parent is visited, where its box (A(n)) is stored.
+// An entry is an edge of the binary tree: a binary leaf costs leaf(n) for every i. A binary
+// node's box, and so A(n), is stored in its parent: its visit leaves distribute(n, j) for
+// every j (a Partial), and its parent's visit finishes its row. A row is read only by the
+// parent's visit, so the rows need not be kept: in decreasing node number a node's children
+// are the last two subtrees finished, and their Partials the top two of a stack. What stays
+// for the layout is each node's choices, a few bytes, not its costs.
 class SahCollapse {
 public:
   SahCollapse(BinaryTree& tree, int width, int threads)
-      : tree_(tree), width_(width), cost_(table<double>(tree.node_count() * width_)),
-        split_(table<std::uint8_t>(tree.node_count() * width_)),
+      : tree_(tree), width_(width), split_(table<std::uint8_t>(tree.node_count() * width_)),
         node_split_(table<std::uint8_t>(tree.node_count())),
         as_leaf_(table<std::uint8_t>(tree.node_count())) {
-    visit_bottom_up(tree, threads, [&](int n) {
+    const BottomUpPlan plan = plan_bottom_up(tree, threads);
+    stacks_.resize(plan.pieces.size() + 1);
+    visit_bottom_up(plan, threads, [&](int n, int part) {
       tree_.set_range(n);
-      for (int c = 0; c < 2; ++c)
-        if (!tree_.leaf(BinaryTree::edge(n, c))) price(BinaryTree::edge(n, c));
+      const auto partial_of = [&](int child) -> Partial {
+        std::vector<Partial>& stack = stacks_[part];
+        if (part < static_cast<int>(plan.pieces.size())) { // in a piece: the stack's top
+          if (stack.empty() || stack.back().node != child)
+            throw Error("collapse: the binary tree is not in depth-first order");
+          const Partial p = stack.back();
+          stack.pop_back();
+          return p;
+        }
+        for (std::size_t k = 0; k < plan.pieces.size(); ++k) // a piece's root, or the top's
+          if (plan.pieces[k].first == child) return stacks_[k].back();
+        for (const Partial& p : stack)
+          if (p.node == child) return p;
+        throw Error("collapse: the binary tree is not in depth-first order");
+      };
+      stacks_[part].push_back(visit(n, partial_of));
     });
-    double rows[2][k_slots];
-    child_rows(0, rows);
-    int k = 0;
-    distribute(rows, width_, k);
-    node_split_[0] = static_cast<std::uint8_t>(k); // the root's row itself is never needed
+    node_split_[0] = stacks_[plan.top.empty() ? 0 : plan.pieces.size()].back().k[width_];
   }
 
   // The children of a wide node made of interior node n.
@@ -199,8 +236,15 @@ public:
   }
 
 private:
+  // Interior node n's distribute(n, j) for j = 2..width, and the k that gives each.
+  struct Partial {
+    int node;
+    double spread[k_slots + 1];
+    std::uint8_t k[k_slots + 1];
+  };
+
   // Millions of entries: left uninitialised (every one is written before it is read), so the
-  // pages are first touched by the thread that prices them, not zeroed by this one.
+  // pages are first touched by the thread that writes them, not zeroed by this one.
   template <class T> static std::unique_ptr<T[]> table(int size) {
     return std::make_unique_for_overwrite<T[]>(static_cast<std::size_t>(size));
   }
@@ -211,53 +255,52 @@ private:
                : k_inf;
   }
 
-  // cost[child][1..width] of interior node n's two children, a binary leaf's repeated.
-  void child_rows(int n, double (&rows)[2][k_slots]) const {
-    for (int c = 0; c < 2; ++c) {
-      const int e = BinaryTree::edge(n, c);
-      if (tree_.leaf(e)) {
-        std::fill(std::begin(rows[c]), std::end(rows[c]), leaf_cost(e));
-      } else {
-        const double* row = &cost_[std::size_t(tree_.child_node(e)) * width_];
-        std::copy(row, row + width_, rows[c]);
-      }
-    }
-  }
-
-  static double distribute(const double (&rows)[2][k_slots], int j, int& best_k) {
-    double best = k_inf;
-    for (int k = 1; k < j; ++k) {
-      const double c = rows[0][k - 1] + rows[1][j - k - 1];
-      if (c < best) {
-        best = c;
-        best_k = k;
-      }
-    }
-    return best;
-  }
-
-  // The row of the interior node at the end of edge e.
-  void price(int e) {
-    const int n = tree_.child_node(e);
+  // cost[m][1..width] of the interior node m at the end of edge e, from its Partial; its
+  // choices recorded.
+  void finish_row(int e, const Partial& p, double* cost) {
+    const int m = p.node;
     const double area = ch07::half_area_of(tree_.box(e));
     const double leaf = leaf_cost(e);
-    double rows[2][k_slots];
-    child_rows(n, rows);
-    int best_k = 0;
-    const double interior = area * k_node_cost + distribute(rows, width_, best_k);
-    node_split_[n] = static_cast<std::uint8_t>(best_k);
-    as_leaf_[n] = leaf <= interior;
-    double* cost = &cost_[std::size_t(n) * width_];
-    std::uint8_t* split = &split_[std::size_t(n) * width_];
+    const double interior = area * k_node_cost + p.spread[width_];
+    node_split_[m] = p.k[width_];
+    as_leaf_[m] = leaf <= interior;
+    std::uint8_t* split = &split_[std::size_t(m) * width_];
     cost[0] = std::min(leaf, interior);
     split[0] = 0;
     for (int i = 2; i <= width_; ++i) {
-      int k = 0;
-      const double spread = distribute(rows, i, k);
-      const bool fewer = cost[i - 2] <= spread; // on a tie, fewer children
-      cost[i - 1] = fewer ? cost[i - 2] : spread;
-      split[i - 1] = static_cast<std::uint8_t>(fewer ? 0 : k);
+      const bool fewer = cost[i - 2] <= p.spread[i]; // on a tie, fewer children
+      cost[i - 1] = fewer ? cost[i - 2] : p.spread[i];
+      split[i - 1] = static_cast<std::uint8_t>(fewer ? 0 : p.k[i]);
     }
+  }
+
+  // Node n's visit: its children's rows (a binary leaf's repeated, an interior child's
+  // finished from its Partial), then n's own Partial.
+  template <class PartialOf> Partial visit(int n, PartialOf partial_of) {
+    double rows[2][k_slots];
+    for (int c = 0; c < 2; ++c) {
+      const int e = BinaryTree::edge(n, c);
+      if (tree_.leaf(e))
+        std::fill(std::begin(rows[c]), std::end(rows[c]), leaf_cost(e));
+      else
+        finish_row(e, partial_of(tree_.child_node(e)), rows[c]);
+    }
+    Partial p;
+    p.node = n;
+    for (int j = 2; j <= width_; ++j) {
+      double best = k_inf;
+      int best_k = 0;
+      for (int k = 1; k < j; ++k) {
+        const double c = rows[0][k - 1] + rows[1][j - k - 1];
+        if (c < best) {
+          best = c;
+          best_k = k;
+        }
+      }
+      p.spread[j] = best;
+      p.k[j] = static_cast<std::uint8_t>(best_k);
+    }
+    return p;
   }
 
   void collect(int e, int i, Picks& out) const {
@@ -279,10 +322,10 @@ private:
 
   BinaryTree& tree_;
   int width_;
-  std::unique_ptr<double[]> cost_;             // [n][i - 1], i = 1..width
   std::unique_ptr<std::uint8_t[]> split_;      // [n][i - 1]: k, or 0 for cost[n][i - 1]
   std::unique_ptr<std::uint8_t[]> node_split_; // k of distribute(n, width)
   std::unique_ptr<std::uint8_t[]> as_leaf_;    // cost[n][1] is leaf(n)
+  std::vector<std::vector<Partial>> stacks_;   // per piece, and the top's
 };
 // [/listing:sah_collapse]
 
@@ -590,7 +633,8 @@ WideLayout collapse(const ch07::Bvh& binary, int width, Collapse method) {
     const auto children_of = [&](int n) { return sah.children(n); };
     lay_out(tree, children_of(0), children_of, out.threads, out);
   } else {
-    visit_bottom_up(tree, out.threads, [&](int n) { tree.set_range(n); });
+    visit_bottom_up(plan_bottom_up(tree, out.threads), out.threads,
+                    [&](int n, int) { tree.set_range(n); });
     const auto children_of = [&](int n) { return greedy_children(tree, n, width); };
     lay_out(tree, children_of(0), children_of, out.threads, out);
   }
