@@ -359,6 +359,15 @@ struct Fragment {
   std::vector<SlotNode> nodes;
   std::vector<TriangleF> triangles;
   std::vector<int> triangle_ids;
+
+  // Room for a piece of `references` binary references, so that the arrays are not copied as
+  // they grow: at most that many triangles, and (a wide node holding two children or more, the
+  // leaves one triangle or more) rarely more nodes than half as many.
+  void reserve(int references) {
+    nodes.reserve(std::size_t(references) / 2 + 1);
+    triangles.reserve(std::size_t(references));
+    triangle_ids.reserve(std::size_t(references));
+  }
 };
 
 // A wide subtree left to the threads: its root `node` of the top (made of `edge`) has its box;
@@ -553,9 +562,7 @@ void lay_out(const BinaryTree& tree, const Picks& root_picks, ChildrenOf childre
   top.nodes.push_back(out.nodes[0]);
   const int references = static_cast<int>(tree.triangle_ids().size());
   if (threads == 1) {
-    top.nodes.reserve(std::size_t(references) / 2);
-    top.triangles.reserve(tree.triangles().size());
-    top.triangle_ids.reserve(tree.triangles().size());
+    top.reserve(references);
     Layout(tree, children_of, top).emit(0, root_picks, 0);
     out.nodes = std::move(top.nodes);
     out.triangles = std::move(top.triangles);
@@ -574,6 +581,7 @@ void lay_out(const BinaryTree& tree, const Picks& root_picks, ChildrenOf childre
   for_each_index_rethrow(order.size(), threads, [&](std::size_t k) {
     WideSubtree& subtree = subtrees[order[k]];
     Fragment& f = subtree.fragment;
+    f.reserve(tree.count(subtree.edge));
     f.nodes.push_back(top.nodes[subtree.node]);
     Layout(tree, children_of, f)
         .emit(0, children_of(tree.child_node(subtree.edge)), subtree.depth);
