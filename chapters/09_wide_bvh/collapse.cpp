@@ -465,7 +465,6 @@ private:
   std::vector<int> subtrees_before_;
 };
 
-// [listing:wide_splice]
 // The whole layout in the serial depth-first order: the top's nodes and triangles, with each
 // subtree's inserted where the top had `position` nodes and `triangle_position` triangles, and
 // every number shifted to match. A subtree's root stays where its parent put it, in the top; a
@@ -518,7 +517,6 @@ void splice(Fragment& top, std::vector<WideSubtree>& subtrees, std::vector<int> 
               out.triangle_ids.begin() + subtree.triangle_start);
   });
 }
-// [/listing:wide_splice]
 
 // The layout's stats, from its nodes, in the order the serial layout visits them (depth first,
 // a node's leaves before its own cost): the SAH cost is a sum of doubles, and a sum taken in
@@ -551,7 +549,6 @@ void layout_stats(const WideLayout& layout, double root_area, WideStats& stats) 
   stats.sah_cost = root_area > 0.0 ? sah / root_area : sah;
 }
 
-// [listing:collapse_on_threads]
 // The layout from the root's children: on one thread all of it depth first; on several, the
 // top depth first with the subtrees of at most `handoff` references handed out, then the
 // subtrees, each by one thread into a fragment of its own, then the splice.
@@ -588,7 +585,6 @@ void lay_out(const BinaryTree& tree, const Picks& root_picks, ChildrenOf childre
   });
   splice(top, subtrees, top_layout.subtrees_before(), threads, out);
 }
-// [/listing:collapse_on_threads]
 
 } // namespace
 
