@@ -549,16 +549,17 @@ void layout_stats(const WideLayout& layout, double root_area, WideStats& stats) 
   stats.sah_cost = root_area > 0.0 ? sah / root_area : sah;
 }
 
-// The layout from the root's children: on one thread all of it depth first; on several, the
-// top depth first with the subtrees of at most `handoff` references handed out, then the
-// subtrees, each by one thread into a fragment of its own, then the splice.
+// The layout from the root's children: on one thread, or for a mesh too small to share (as in
+// chapter 07's build), all of it depth first; on several, the top depth first with the subtrees
+// of at most `handoff` references handed out, then the subtrees, each by one thread into a
+// fragment of its own, then the splice.
 template <class ChildrenOf>
 void lay_out(const BinaryTree& tree, const Picks& root_picks, ChildrenOf children_of,
              int threads, WideLayout& out) {
   Fragment top;
   top.nodes.push_back(out.nodes[0]);
   const int references = static_cast<int>(tree.triangle_ids().size());
-  if (threads == 1) {
+  if (threads == 1 || references < 2 * k_min_piece) {
     top.reserve(references);
     Layout(tree, children_of, top).emit(0, root_picks, 0);
     out.nodes = std::move(top.nodes);
