@@ -6,6 +6,7 @@
 //                       [--width W --height H] [--threads N] [--runs N]
 //                       [--json FILE] [--robust] [--backend cpu] SCENE...
 #include "embree_comparison.h"
+#include "rt/backend.h"
 #include "rt/report.h"
 #include "wide_tracers.h"
 
@@ -29,10 +30,12 @@ int main(int argc, char** argv) {
             const BuildSink keep_stats = [&](const std::string&, const std::string&,
                                              const WideStats& stats) { wide = stats; };
             // The binary build's threads (one for spatial splits); the collapse and the
-            // stored layout take the same build's threads where they run in parallel.
-            const int threads = scene.bvh.stats.threads;
-            const std::string on_threads =
-                std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+            // stored layout run on the build options' threads (0: the CPU backend's).
+            const auto on = [](int threads) {
+              return std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+            };
+            const std::string on_threads = on(scene.bvh.stats.threads);
+            const int asked = scene.bvh.options.threads;
             rt::ch07::OursOnScene ours{
                 .tracer = chapter_tracers({which}, keep_stats)(scene).at(0),
                 .build_ms = scene.bvh.stats.build_ms,
@@ -44,7 +47,8 @@ int main(int argc, char** argv) {
             ours.build =
                 std::string(spatial ? "binned SAH with spatial splits" : "binned SAH") +
                 " on " + on_threads + ", then " +
-                (which == ChapterTracer::cwbvh8_greedy ? "greedy" : "SAH") + " collapse";
+                (which == ChapterTracer::cwbvh8_greedy ? "greedy" : "SAH") + " collapse on " +
+                on(asked > 0 ? asked : rt::cpu_thread_count());
             ours.cost =
                 "SAH cost " + rt::format_fixed(wide.sah_cost, 1) + " by the collapse's model";
             return ours;

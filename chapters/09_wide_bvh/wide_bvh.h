@@ -86,8 +86,8 @@ static_assert(offsetof(WideNode<8>, child_base) == 192 && offsetof(WideNode<8>, 
 static_assert(offsetof(WideNode<8>, imask) == 208);
 // [/listing:wide_node]
 
-// Child c's box into a node's six coordinate arrays.
-template <int N> RT_HD inline void set_child_box(WideNode<N>& node, int c, const Aabb& box) {
+// Child c's box into a node's six coordinate arrays (a WideNode, or the CPU's node).
+template <class Node> RT_HD inline void set_child_box(Node& node, int c, const Aabb& box) {
   node.lo_x[c] = box.lo.x;
   node.lo_y[c] = box.lo.y;
   node.lo_z[c] = box.lo.z;

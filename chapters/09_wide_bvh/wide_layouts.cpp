@@ -158,13 +158,7 @@ CpuTree pack_cpu(const WideLayout& layout) {
         int slots[k_slots];
         const int count = used_slots(from, slots);
         for (int c = 0; c < k_slots; ++c) {
-          const Aabb box = c < count ? from.child_box[slots[c]] : Aabb{};
-          node.lo_x[c] = box.lo.x;
-          node.lo_y[c] = box.lo.y;
-          node.lo_z[c] = box.lo.z;
-          node.hi_x[c] = box.hi.x;
-          node.hi_y[c] = box.hi.y;
-          node.hi_z[c] = box.hi.z;
+          set_child_box(node, c, c < count ? from.child_box[slots[c]] : Aabb{});
           node.child[c] = cpu_leaf_child(0); // empty: a leaf of no triangles
           if (c >= count) continue;
           const std::uint8_t meta = from.meta[slots[c]];
