@@ -164,7 +164,7 @@ void visit_bottom_up(const BottomUpPlan& plan, int threads, Visit visit) {
   if (plan.pieces.size() == 1 && plan.top.empty())
     visit_piece(0);
   else
-    for_each_index_rethrow(plan.pieces.size(), threads, visit_piece);
+    for_each_index_cpu(plan.pieces.size(), visit_piece, threads, "parts");
   for (const int n : plan.top) visit(n, top_part);
 }
 // [/listing:bottom_up]
@@ -502,20 +502,23 @@ void splice(Fragment& top, std::vector<WideSubtree>& subtrees, std::vector<int> 
     out.triangles[k + triangle_shift[t]] = top.triangles[k];
     out.triangle_ids[k + triangle_shift[t]] = top.triangle_ids[k];
   }
-  for_each_index_rethrow(count, threads, [&](std::size_t t) {
-    const WideSubtree& subtree = subtrees[t];
-    const Fragment& f = subtree.fragment;
-    for (std::size_t k = 0; k < f.nodes.size(); ++k) {
-      SlotNode node = f.nodes[k];
-      node.child_base += subtree.start - 1; // the fragment's node 1 is the subtree's start
-      node.triangle_base += subtree.triangle_start;
-      out.nodes[k == 0 ? index_of[subtree.node] : subtree.start + k - 1] = node;
-    }
-    std::copy(f.triangles.begin(), f.triangles.end(),
-              out.triangles.begin() + subtree.triangle_start);
-    std::copy(f.triangle_ids.begin(), f.triangle_ids.end(),
-              out.triangle_ids.begin() + subtree.triangle_start);
-  });
+  for_each_index_cpu(
+      count,
+      [&](std::size_t t) {
+        const WideSubtree& subtree = subtrees[t];
+        const Fragment& f = subtree.fragment;
+        for (std::size_t k = 0; k < f.nodes.size(); ++k) {
+          SlotNode node = f.nodes[k];
+          node.child_base += subtree.start - 1; // the fragment's node 1 is the subtree's start
+          node.triangle_base += subtree.triangle_start;
+          out.nodes[k == 0 ? index_of[subtree.node] : subtree.start + k - 1] = node;
+        }
+        std::copy(f.triangles.begin(), f.triangles.end(),
+                  out.triangles.begin() + subtree.triangle_start);
+        std::copy(f.triangle_ids.begin(), f.triangle_ids.end(),
+                  out.triangle_ids.begin() + subtree.triangle_start);
+      },
+      threads, "parts");
 }
 
 // The layout's stats, from its nodes, in the order the serial layout visits them (depth first,
@@ -576,14 +579,17 @@ void lay_out(const BinaryTree& tree, const Picks& root_picks, ChildrenOf childre
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return tree.count(subtrees[a].edge) > tree.count(subtrees[b].edge);
   });
-  for_each_index_rethrow(order.size(), threads, [&](std::size_t k) {
-    WideSubtree& subtree = subtrees[order[k]];
-    Fragment& f = subtree.fragment;
-    f.reserve(tree.count(subtree.edge));
-    f.nodes.push_back(top.nodes[subtree.node]);
-    Layout(tree, children_of, f)
-        .emit(0, children_of(tree.child_node(subtree.edge)), subtree.depth);
-  });
+  for_each_index_cpu(
+      order.size(),
+      [&](std::size_t k) {
+        WideSubtree& subtree = subtrees[order[k]];
+        Fragment& f = subtree.fragment;
+        f.reserve(tree.count(subtree.edge));
+        f.nodes.push_back(top.nodes[subtree.node]);
+        Layout(tree, children_of, f)
+            .emit(0, children_of(tree.child_node(subtree.edge)), subtree.depth);
+      },
+      threads, "parts");
   splice(top, subtrees, top_layout.subtrees_before(), threads, out);
 }
 

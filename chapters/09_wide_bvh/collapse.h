@@ -7,8 +7,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <exception>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -112,30 +110,5 @@ template <class Node, class Triangles>
 std::vector<std::string> check_wide_tree(const WideTree<Node, Triangles>& tree,
                                          const ch04::Mesh& mesh,
                                          const ch07::BuildOptions& binary = {});
-
-// fn(i) for every i in 0 .. count - 1 on `threads` threads (rt/launch.h's for_each_index_cpu),
-// for work that may throw: an exception leaving fn on another thread would end the program, so
-// each is caught, and once all are done the one of the lowest i, the one a loop on one thread
-// would have met first, is thrown again here.
-template <class Fn> void for_each_index_rethrow(std::size_t count, int threads, Fn fn) {
-  std::mutex mutex;
-  std::size_t failed_at = count;
-  std::exception_ptr failure;
-  for_each_index_cpu(
-      count,
-      [&](std::size_t i) {
-        try {
-          fn(i);
-        } catch (...) {
-          const std::lock_guard lock(mutex);
-          if (i < failed_at) {
-            failed_at = i;
-            failure = std::current_exception();
-          }
-        }
-      },
-      threads, "parts");
-  if (failure) std::rethrow_exception(failure);
-}
 
 } // namespace rt::ch09

@@ -248,32 +248,35 @@ CompressedBvh compress(const WideLayout& layout) {
   CompressedBvh tree;
   tree.nodes.resize(layout.nodes.size());
   // A node too wide for its grid throws: the first such node in order is the one named.
-  for_each_index_rethrow(layout.nodes.size(), threads_of(layout), [&](std::size_t i) {
-    const SlotNode& from = layout.nodes[i];
-    CompressedNode& node = tree.nodes[i];
-    const AxisGrid grid[3] = {choose_grid(from.box.lo.x, from.box.hi.x),
-                              choose_grid(from.box.lo.y, from.box.hi.y),
-                              choose_grid(from.box.lo.z, from.box.hi.z)};
-    for (int a = 0; a < 3; ++a) {
-      node.origin[a] = grid[a].origin;
-      node.exponent[a] = grid[a].exponent;
-    }
-    int slots[k_slots];
-    const int count = used_slots(from, slots);
-    for (int c = 0; c < count; ++c) { // empty children keep q = 0 and meta 0: no bits
-      const Aabb& box = from.child_box[slots[c]];
-      node.meta[c] = from.meta[slots[c]];
-      node.q_lo_x[c] = quantise_lo(box.lo.x, grid[0]);
-      node.q_lo_y[c] = quantise_lo(box.lo.y, grid[1]);
-      node.q_lo_z[c] = quantise_lo(box.lo.z, grid[2]);
-      node.q_hi_x[c] = quantise_hi(box.hi.x, grid[0]);
-      node.q_hi_y[c] = quantise_hi(box.hi.y, grid[1]);
-      node.q_hi_z[c] = quantise_hi(box.hi.z, grid[2]);
-    }
-    node.child_base = from.child_base;
-    node.triangle_base = from.triangle_base;
-    node.imask = from.imask;
-  });
+  for_each_index_cpu(
+      layout.nodes.size(),
+      [&](std::size_t i) {
+        const SlotNode& from = layout.nodes[i];
+        CompressedNode& node = tree.nodes[i];
+        const AxisGrid grid[3] = {choose_grid(from.box.lo.x, from.box.hi.x),
+                                  choose_grid(from.box.lo.y, from.box.hi.y),
+                                  choose_grid(from.box.lo.z, from.box.hi.z)};
+        for (int a = 0; a < 3; ++a) {
+          node.origin[a] = grid[a].origin;
+          node.exponent[a] = grid[a].exponent;
+        }
+        int slots[k_slots];
+        const int count = used_slots(from, slots);
+        for (int c = 0; c < count; ++c) { // empty children keep q = 0 and meta 0: no bits
+          const Aabb& box = from.child_box[slots[c]];
+          node.meta[c] = from.meta[slots[c]];
+          node.q_lo_x[c] = quantise_lo(box.lo.x, grid[0]);
+          node.q_lo_y[c] = quantise_lo(box.lo.y, grid[1]);
+          node.q_lo_z[c] = quantise_lo(box.lo.z, grid[2]);
+          node.q_hi_x[c] = quantise_hi(box.hi.x, grid[0]);
+          node.q_hi_y[c] = quantise_hi(box.hi.y, grid[1]);
+          node.q_hi_z[c] = quantise_hi(box.hi.z, grid[2]);
+        }
+        node.child_base = from.child_base;
+        node.triangle_base = from.triangle_base;
+        node.imask = from.imask;
+      },
+      threads_of(layout), "parts");
   finish(tree, layout, start);
   return tree;
 }

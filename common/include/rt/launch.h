@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -99,26 +101,46 @@ void for_each_pixel(Backend backend, Extent extent, PixelFn fn, BlockShape block
 // some cost far more than others. A small batch (chapter 07's float64 reference: a thousand
 // rays, each costing milliseconds on a large model) gets smaller chunks, at least 64 per
 // thread, so that the work spreads evenly and its progress line, counting `unit`, moves.
+// An exception leaving fn on any thread stops the handing out, and once every thread is done
+// the one of the lowest i is thrown again here: the one a loop on one thread would have met
+// first (every chunk not yet handed out lies beyond every chunk that was).
 template <class Fn>
 void for_each_index_cpu(std::size_t count, Fn fn, int threads = cpu_thread_count(),
                         const char* unit = "rays") {
   const std::size_t chunk = std::clamp<std::size_t>(
       count / (64 * static_cast<std::size_t>(std::max(threads, 1))), 1, 256);
   std::atomic<std::size_t> next{0}, done{0};
+  std::mutex failure_mutex;
+  std::size_t failed_at = count;
+  std::exception_ptr failure;
   auto worker = [&](auto after_chunk) {
-    for (std::size_t start = next.fetch_add(chunk); start < count;
-         start = next.fetch_add(chunk)) {
-      const std::size_t end = std::min(count, start + chunk);
-      for (std::size_t i = start; i < end; ++i) fn(i);
-      after_chunk(done += end - start);
+    std::size_t i = 0;
+    try {
+      for (std::size_t start = next.fetch_add(chunk); start < count;
+           start = next.fetch_add(chunk)) {
+        const std::size_t end = std::min(count, start + chunk);
+        for (i = start; i < end; ++i) fn(i);
+        after_chunk(done += end - start);
+      }
+    } catch (...) {
+      next = count; // hand out nothing more
+      const std::lock_guard lock(failure_mutex);
+      if (i < failed_at) {
+        failed_at = i;
+        failure = std::current_exception();
+      }
     }
   };
   threads = std::max(1, std::min<int>(threads, int(count / chunk) + 1));
-  // A long batch says how far it has come, as for_each_pixel_cpu does.
-  CpuProgress progress(static_cast<long long>(count), unit);
-  std::vector<std::jthread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, [](std::size_t) {});
-  worker([&](std::size_t items_done) { progress.update(static_cast<long long>(items_done)); });
+  {
+    // A long batch says how far it has come, as for_each_pixel_cpu does.
+    CpuProgress progress(static_cast<long long>(count), unit);
+    std::vector<std::jthread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(worker, [](std::size_t) {});
+    worker(
+        [&](std::size_t items_done) { progress.update(static_cast<long long>(items_done)); });
+  } // the pool joins here
+  if (failure) std::rethrow_exception(failure);
 }
 
 #if RT_DEVICE_CODE_POSSIBLE
