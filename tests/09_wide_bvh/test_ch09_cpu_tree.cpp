@@ -197,16 +197,8 @@ TEST_CASE("bad rays read no node of the CPU tree, and an empty mesh has none", "
 TEST_CASE("the CPU tree's stack stays within its bound on a lopsided tree", "[ch09]") {
   // Triangles growing geometrically along x, as in the wide trees' test: the deepest tree
   // chapter 07's build makes of so few triangles.
-  Mesh chain;
-  float x = 1.0f;
-  for (int i = 0; i < 200; ++i, x *= 1.3f) {
-    const int base = static_cast<int>(chain.vertices.size());
-    const float s = 0.2f * x;
-    chain.vertices.push_back({x - s, -s, 0.0f});
-    chain.vertices.push_back({x + s, -s, 0.1f * s});
-    chain.vertices.push_back({x, s, -0.1f * s});
-    chain.triangles.push_back({base, base + 1, base + 2});
-  }
+  float x = 0.0f;
+  const Mesh chain = geometric_chain(200, x);
   std::mt19937 rng(41);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   std::vector<RayF> rays;

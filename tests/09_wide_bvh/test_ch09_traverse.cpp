@@ -285,18 +285,9 @@ TEST_CASE("NaN, infinite and zero-direction rays miss before the first node read
 }
 
 TEST_CASE("the stack stays within its bound on a lopsided tree", "[ch09]") {
-  // Triangles growing geometrically along x: chapter 07's binned SAH can only peel the largest
-  // one or two off at each level, so its tree is as deep as its depth bound lets it be.
-  Mesh chain;
-  float x = 1.0f;
-  for (int i = 0; i < 200; ++i, x *= 1.3f) {
-    const int base = static_cast<int>(chain.vertices.size());
-    const float s = 0.2f * x;
-    chain.vertices.push_back({x - s, -s, 0.0f});
-    chain.vertices.push_back({x + s, -s, 0.1f * s});
-    chain.vertices.push_back({x, s, -0.1f * s});
-    chain.triangles.push_back({base, base + 1, base + 2});
-  }
+  // Triangles growing geometrically along x: as deep a tree as the depth bound allows.
+  float far = 0.0f;
+  const Mesh chain = geometric_chain(200, far);
   std::mt19937 rng(4);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   std::uniform_int_distribution<int> pick(0, 199);

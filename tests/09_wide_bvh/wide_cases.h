@@ -39,6 +39,24 @@ inline Mesh mixed_scene(int soup, unsigned seed, Vec3f offset = {}) {
   return scene;
 }
 
+// Triangles growing geometrically along x, from x = 1 by a factor of 1.3, `count` of them:
+// chapter 07's binned SAH can only peel the largest one or two off at each level, so its tree
+// is as deep as its depth bound lets it be. Returns the chain; `far` gets the last x.
+inline Mesh geometric_chain(int count, float& far) {
+  Mesh chain;
+  float x = 1.0f;
+  for (int i = 0; i < count; ++i, x *= 1.3f) {
+    const int base = static_cast<int>(chain.vertices.size());
+    const float s = 0.2f * x;
+    chain.vertices.push_back({x - s, -s, 0.0f});
+    chain.vertices.push_back({x + s, -s, 0.1f * s});
+    chain.vertices.push_back({x, s, -0.1f * s});
+    chain.triangles.push_back({base, base + 1, base + 2});
+  }
+  far = x;
+  return chain;
+}
+
 // Random rays through the scene around `centre` (some with a finite tmax or a tmin), rays aimed
 // at triangles' centroids, vertices and edge midpoints, rays along the grid box's faces (for a
 // mixed_scene around `centre`), and the hostile rays that must miss at once.
