@@ -198,12 +198,13 @@ private:
 };
 
 // The CPU's own tree as a tracer: a CPU path only, so the runner leaves it out on the GPU.
-Tracer cpu_tracer(ChapterTracer which, SceneTrees& trees) {
-  const auto tree = std::make_shared<const CpuTree>(pack_cpu(trees.layout(which)));
-  trees.report(which, tree->stats);
+Tracer cpu_tracer(ChapterTracer which, SceneTrees& trees, const TracerScene& scene) {
   Tracer tracer;
   tracer.name = to_string(which);
   tracer.rule = ch07::HitRule::ties_allowed;
+  if (scene.backend == Backend::gpu) return tracer; // no path there: its tree is not built
+  const auto tree = std::make_shared<const CpuTree>(pack_cpu(trees.layout(which)));
+  trees.report(which, tree->stats);
   tracer.bytes_per_triangle = tree->stats.bytes_per_triangle;
   tracer.trace_cpu = [tree](Query query, std::span<const RayF> rays, std::span<MeshHit> hits) {
     trace_cpu_tree(query, tree->view(), rays, hits);
@@ -215,7 +216,7 @@ Tracer cpu_tracer(ChapterTracer which, SceneTrees& trees) {
 }
 
 Tracer make_wide(ChapterTracer which, SceneTrees& trees, const TracerScene& scene) {
-  if (which == ChapterTracer::cpu8) return cpu_tracer(which, trees);
+  if (which == ChapterTracer::cpu8) return cpu_tracer(which, trees, scene);
   if (which == ChapterTracer::wide4_packed)
     return wide_tracer(to_string(which), trees.wide4_packed());
   if (is_traversal_variant(which)) return variant_tracer(which, trees.wide4_packed(), scene);
