@@ -96,6 +96,38 @@ RT_HD inline void mark(int* flag) {
 #endif
 }
 
+// [listing:node_in_four_stores]
+// A 64-byte node read or written in four 16-byte pieces on the GPU. BvhNode's members are
+// floats and ints, so the compiler may only assume 4-byte alignment and moves it as sixteen
+// 4-byte loads or stores: where a warp's lanes read or write scattered nodes, each of the
+// sixteen is a memory request per lane. Arrays from cudaMalloc start 256-byte aligned, so
+// every node of one sits on a 16-byte boundary and four requests do.
+RT_HD inline BvhNode load_node(const BvhNode* from) {
+#if RT_ON_DEVICE
+  const float4* pieces = reinterpret_cast<const float4*>(from);
+  float4 v[4];
+  RT_UNROLL
+  for (int k = 0; k < 4; ++k) v[k] = pieces[k];
+  BvhNode node;
+  memcpy(&node, v, sizeof node);
+  return node;
+#else
+  return *from;
+#endif
+}
+RT_HD inline void store_node(BvhNode* to, const BvhNode& node) {
+#if RT_ON_DEVICE
+  float4 v[4];
+  memcpy(v, &node, sizeof node);
+  float4* pieces = reinterpret_cast<float4*>(to);
+  RT_UNROLL
+  for (int k = 0; k < 4; ++k) pieces[k] = v[k];
+#else
+  *to = node;
+#endif
+}
+// [/listing:node_in_four_stores]
+
 // The triangle copies in leaf order.
 struct GatherTriangles {
   MeshView mesh;

@@ -38,17 +38,19 @@ struct CollapseView {
   int* leaf_counts;
   const int* interior_offsets; // exclusive scans of the two counts
   const int* triangle_offsets;
-  int* wide_index; // of a wide node: its number in the wide tree
+  int* wide_index;   // of a wide node: its number in the wide tree
+  WideOrder* orders; // of a wide node: its children, as CountChildren found them
   WideNode<k_width>* out_nodes;
   float2* out_records;
   int* sources; // per record: the binary leaf order's triangle it copies
 };
 
 // A child of a wide node: a leaf (node -1) of the triangles first .. first + count - 1, or
-// the wide node made of binary node `node`.
+// the wide node made of binary node `node`; its box is child `from & 1` of binary node
+// `from >> 1`.
 struct WideChild {
   Aabb box;
-  int node, first, count;
+  int node, first, count, from;
 };
 
 // A wide node's children at fixed places: binary child c's at place 2c, or, opened, its two
@@ -61,36 +63,36 @@ struct WideChildren {
 };
 
 // Binary child c of node i, as a leaf of the wide tree or opened further (interior = true).
-RT_HD inline WideChild binary_child(const CollapseView& t, const BvhNode& node, int c,
+RT_HD inline WideChild binary_child(const CollapseView& t, const BvhNode& node, int at, int c,
                                     bool& interior) {
   interior = false;
-  if (node.is_leaf(c)) return {node.box[c], -1, node.first[c], node.count[c]};
+  if (node.is_leaf(c)) return {node.box[c], -1, node.first[c], node.count[c], 2 * at + c};
   const int x = node.first[c];
   const int first = t.range_first[x], count = t.range_end[x] - first;
   interior = count > t.leaf_size;
-  return {node.box[c], interior ? x : -1, first, count};
+  return {node.box[c], interior ? x : -1, first, count, 2 * at + c};
 }
 
 // The children of the wide node made of binary node i: its binary children, each covering more
 // than three triangles opened into its own two; then the octant slots.
 RT_HD inline WideChildren wide_children(const CollapseView& t, int i) {
   WideChildren out;
-  const BvhNode node = t.nodes[i];
+  const BvhNode node = load_node(&t.nodes[i]);
   RT_UNROLL
   for (int c = 0; c < 2; ++c) {
     if (!node.is_leaf(c) && node.first[c] < 0) continue; // the one-triangle tree's empty side
     bool open = false;
-    const WideChild child = binary_child(t, node, c, open);
+    const WideChild child = binary_child(t, node, i, c, open);
     if (!open) {
       out.child[2 * c] = child;
       out.present |= 1u << (2 * c);
       continue;
     }
-    const BvhNode opened = t.nodes[child.node];
+    const BvhNode opened = load_node(&t.nodes[child.node]);
     RT_UNROLL
     for (int d = 0; d < 2; ++d) {
       bool interior = false;
-      out.child[2 * c + d] = binary_child(t, opened, d, interior);
+      out.child[2 * c + d] = binary_child(t, opened, child.node, d, interior);
       out.present |= 1u << (2 * c + d);
     }
   }
@@ -141,26 +143,34 @@ struct MeasureNodes {
   }
 };
 
-// Pass 2: each wide node's interior children and leaf triangles, counted for the scans.
+// [listing:wide_order]
+// Pass 2: each wide node's children in slot order, kept, and its interior children and leaf
+// triangles counted for the scans.
 struct CountChildren {
   CollapseView t;
   RT_HD void operator()(int i) const {
     int interior = 0, triangles = 0;
     if (t.is_wide[i]) {
-      const WideChildren children = wide_children(t, i);
+      WideOrder order;
       RT_UNROLL
-      for (int c = 0; c < k_width; ++c) {
-        if ((children.present >> c & 1u) == 0) continue;
-        if (children.child[c].node >= 0)
-          ++interior;
-        else
-          triangles += children.child[c].count;
-      }
+      for (int p = 0; p < k_width; ++p)
+        order.from[p] = order.target[p] = order.count[p] = order.slot[p] = -1;
+      in_slot_order(wide_children(t, i), [&](const WideChild& child, int slot, int p) {
+        const bool inner = child.node >= 0;
+        order.from[p] = child.from;
+        order.target[p] = inner ? child.node : child.first;
+        order.count[p] = inner ? 0 : child.count;
+        order.slot[p] = slot;
+        interior += inner;
+        triangles += inner ? 0 : child.count;
+      });
+      t.orders[i] = order;
     }
     t.interior_counts[i] = interior;
     t.leaf_counts[i] = triangles;
   }
 };
+// [/listing:wide_order]
 
 // Pass 3: each wide node numbers its interior children, in slot order, from its child_base.
 struct NumberChildren {
@@ -168,10 +178,11 @@ struct NumberChildren {
   RT_HD void operator()(int i) const {
     if (i == 0) t.wide_index[0] = 0;
     if (!t.is_wide[i]) return;
+    const WideOrder order = t.orders[i];
     int next = 1 + t.interior_offsets[i];
-    in_slot_order(wide_children(t, i), [&](const WideChild& child, int, int) {
-      if (child.node >= 0) t.wide_index[child.node] = next++;
-    });
+    RT_UNROLL
+    for (int p = 0; p < k_width; ++p)
+      if (order.from[p] >= 0 && order.count[p] == 0) t.wide_index[order.target[p]] = next++;
   }
 };
 
@@ -183,25 +194,28 @@ struct WriteWideNodes {
   CollapseView t;
   RT_HD void operator()(int i) const {
     if (!t.is_wide[i]) return;
+    const WideOrder order = t.orders[i];
     WideNode<k_width> node;
     std::memset(&node, 0, sizeof node); // the padding too: the same bytes on both backends
     node.child_base = 1 + t.interior_offsets[i];
     node.triangle_base = t.triangle_offsets[i];
-    RT_UNROLL
-    for (int p = 0; p < k_width; ++p) // empty children, unless a child takes the place
-      ch09::set_child_box(node, p, Aabb{});
     int offset = 0;
-    in_slot_order(wide_children(t, i), [&](const WideChild& child, int slot, int p) {
-      ch09::set_child_box(node, p, child.box);
-      if (child.node >= 0) {
-        node.meta[p] = ch09::interior_meta(slot);
-        node.imask = static_cast<std::uint8_t>(node.imask | (1u << slot));
-        return;
+    RT_UNROLL
+    for (int p = 0; p < k_width; ++p) {
+      if (order.from[p] < 0) { // an empty child
+        ch09::set_child_box(node, p, Aabb{});
+        continue;
       }
-      node.meta[p] = ch09::leaf_meta(child.count, offset);
-      for (int k = 0; k < child.count; ++k, ++offset)
-        t.sources[node.triangle_base + offset] = child.first + k;
-    });
+      ch09::set_child_box(node, p, t.nodes[order.from[p] >> 1].box[order.from[p] & 1]);
+      if (order.count[p] == 0) {
+        node.meta[p] = ch09::interior_meta(order.slot[p]);
+        node.imask = static_cast<std::uint8_t>(node.imask | (1u << order.slot[p]));
+        continue;
+      }
+      node.meta[p] = ch09::leaf_meta(order.count[p], offset);
+      for (int k = 0; k < order.count[p]; ++k, ++offset)
+        t.sources[node.triangle_base + offset] = order.target[p] + k;
+    }
     t.out_nodes[t.wide_index[i]] = node;
   }
 };
@@ -268,7 +282,8 @@ WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size)
       range_end_(backend, capacity_), is_wide_(backend, capacity_),
       interior_counts_(backend, capacity_), leaf_counts_(backend, capacity_),
       interior_offsets_(backend, capacity_), triangle_offsets_(backend, capacity_),
-      wide_index_(backend, capacity_), wide_total_(backend, 1), nodes_(backend, capacity_),
+      wide_index_(backend, capacity_), orders_(backend, capacity_), wide_total_(backend, 1),
+      nodes_(backend, capacity_),
       records_(backend, std::size_t(5) * std::max(1, triangle_count)),
       sources_(backend, std::max(1, triangle_count)),
       scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0) {
@@ -303,6 +318,7 @@ void WideCollapse::run(const BvhNode* nodes, const int* parents, int node_count,
                        interior_offsets_.data(),
                        triangle_offsets_.data(),
                        wide_index_.data(),
+                       orders_.data(),
                        nodes_.data(),
                        records_.data(),
                        sources_.data()};

@@ -16,6 +16,17 @@ namespace rt::ch10 {
 // each one covering more than three triangles replaced by its own two: at most four children.
 inline constexpr int k_wide_leaf_triangles = ch09::k_max_leaf_triangles;
 
+// A wide node's children in slot order, as the collapse's second pass works them out from the
+// binary nodes (two levels of them, the triangle ranges, the octant slots) and keeps them for
+// the third and fourth, which would otherwise work them out again. Position p holds a child
+// where from[p] >= 0.
+struct alignas(16) WideOrder {
+  int from[4];   // its box is child from & 1 of binary node from >> 1
+  int target[4]; // an interior child's binary node; a leaf's first triangle
+  int count[4];  // a leaf's triangles; 0 for an interior child
+  int slot[4];   // its octant slot
+};
+
 // The collapse's arrays, made once for trees of `triangle_count` triangles; run() collapses a
 // tree (every frame's, in an animation) with the passes alone: on the GPU nothing waits.
 class WideCollapse {
@@ -42,6 +53,7 @@ private:
   int triangle_count_, leaf_size_, capacity_;
   BackendArray<int> range_first_, range_end_, is_wide_, interior_counts_, leaf_counts_,
       interior_offsets_, triangle_offsets_, wide_index_, wide_total_;
+  BackendArray<WideOrder> orders_; // 64 bytes per binary node, set for the wide ones
   BackendArray<ch09::WideNode<4>> nodes_;
   BackendArray<float2> records_;
   BackendArray<int> sources_; // per record: its triangle's place in the binary leaf order
