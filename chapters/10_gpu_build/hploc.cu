@@ -26,14 +26,14 @@ struct StartLeaves {
   const Aabb* triangle_boxes;
   const int* sorted_ids;
   int* clusters;
-  int* far_ends;
+  unsigned long long* far_ends;
   RT_HD void operator()(int k) const {
     tree.boxes[k] = triangle_boxes[sorted_ids[k]];
     tree.leaf_counts[k] = 1;
     tree.parents[k] = -1;
     clusters[k] = k;
     if (k < tree.n - 1) {
-      far_ends[k] = -1;
+      far_ends[k] = k_no_far_end;
       tree.parents[tree.n + k] = -1;
     }
   }
@@ -41,7 +41,10 @@ struct StartLeaves {
 
 #if RT_DEVICE_CODE_POSSIBLE
 constexpr unsigned k_all_lanes = 0xffffffffu;
-constexpr int k_hploc_block = 128; // threads per block of the walk: four warps
+// Threads per block of the walk: eight warps. Of blocks of 32, 64, 128 and 256 threads, 256
+// gave the shortest walk on the H200, 7 to 8 % shorter than 128 on the dragon and the
+// conference room (book/data/10_hploc_h200_walk_blocks.txt).
+constexpr int k_hploc_block = 256;
 
 // The warp's collective operations for walk_on_warp (hploc_walk.h): CUDA's intrinsics over
 // all 32 lanes.
@@ -54,9 +57,10 @@ struct DeviceWarp {
     return __shfl_down_sync(k_all_lanes, v, d);
   }
   __device__ float shfl_up(float v, int d) const { return __shfl_up_sync(k_all_lanes, v, d); }
+  __device__ void sync() const { __syncwarp(); }
   __device__ void publish() const {
-    __threadfence();
     __syncwarp();
+    __threadfence();
   }
 };
 
@@ -83,13 +87,15 @@ void walk_up(Backend backend, const HplocWalk& walk) {
 }
 
 // Interior node j's place in chapter 07's arrays and the slot of its first leaf, counted on
-// the way up as PLOC's are (ploc.cu). Only interior nodes walk: a leaf's slot follows from its
-// parent's first slot (WriteClusters), and a leaf may sit one level below the deepest
-// interior node allowed, so the interior nodes' depth check is the whole tree's.
+// the way up as PLOC's are (ploc.cu), and the node at each place. Only interior nodes walk: a
+// leaf's slot follows from its parent's first slot (WriteClusters), and a leaf may sit one
+// level below the deepest interior node allowed, so the interior nodes' depth check is the
+// whole tree's.
 struct PlaceClusters {
   ClusterTree tree;
   int* index;      // of each interior node
   int* first_slot; // of each interior node's first leaf
+  int* node_at;    // of each place in chapter 07's array: the interior node there
   int* too_deep;
   RT_HD void operator()(int j) const {
     const WayUp up = place_on_way_up(tree, tree.n + j, ch07::k_max_bvh_depth - 1);
@@ -99,54 +105,66 @@ struct PlaceClusters {
     }
     index[j] = up.index;
     first_slot[j] = up.leaf_slot;
+    node_at[up.index] = j;
   }
 };
 
-// Interior node j in chapter 07's layout, boxes included, and the triangle numbers of its
-// leaves in their slots (the triangles themselves follow in slot order, GatherTriangles: a
-// node's slots are scattered over the array, and 36-byte triangle copies written there cost
-// more than four-byte numbers). The walk made every box as the union of its children's, left
-// one grown by the right, from the triangles' own boxes up: the very operations, in the very
-// order, of the bottom-up pass that boxes the other builders' trees (refit.h), so its boxes are
-// that pass's, and it need not run.
+// [listing:hploc_write_in_order]
+// Place `at` of chapter 07's layout, boxes included, and the triangle numbers of its leaves in
+// their slots (the triangles themselves follow in slot order, GatherTriangles: 36-byte copies
+// written at scattered slots cost more than four-byte numbers). A thread per place, not per
+// node: the merges numbered the nodes in the order they happened to be made, so threads in
+// the nodes' order wrote 64-byte nodes all over the array; in the array's order a warp writes
+// 2 KiB side by side, each node in four 16-byte stores (store_node), and its leaves' slots
+// (depth first, as the places are) nearly side by side too. The walk made every box as the
+// union of its children's, left one grown by the right, from the triangles' own boxes up: the
+// very operations, in the very order, of the bottom-up pass that boxes the other builders'
+// trees (refit.h), so its boxes are that pass's, and it need not run. A tree too deep for the
+// traversal stack is not laid out: some places were never given a node.
 struct WriteClusters {
   ClusterTree tree;
-  const int *index, *first_slot, *sorted_ids;
+  const int *index, *first_slot, *node_at, *sorted_ids, *too_deep;
   BvhNode* out;
   int* triangle_ids;
-  RT_HD void operator()(int j) const {
-    const int at = index[j];
+  RT_HD void operator()(int at) const {
+    if (*too_deep != 0) return;
+    const int j = node_at[at];
+    const ClusterPair pair = tree.nodes[j];
     BvhNode written;
     for (int c = 0; c < 2; ++c) {
-      const int child = tree.nodes[j].child[c];
+      const int child = pair.child[c];
       const bool leaf = child < tree.n;
       // A leaf on the right comes after all the leaves of the left child.
-      const int slot = first_slot[j] + (c == 1 ? tree.leaf_counts[tree.nodes[j].child[0]] : 0);
+      const int slot = first_slot[j] + (c == 1 ? tree.leaf_counts[pair.child[0]] : 0);
       written.box[c] = tree.boxes[child];
       written.first[c] = leaf ? slot : index[child - tree.n];
       written.count[c] = leaf ? 1 : 0;
       if (leaf) triangle_ids[slot] = sorted_ids[child];
     }
-    out[at] = written;
+    store_node(&out[at], written);
   }
 };
+// [/listing:hploc_write_in_order]
 
 // The arrays of one build, all made before its clock starts.
 struct HplocArrays {
   BackendArray<Aabb> boxes;
-  BackendArray<int> leaf_counts, parents;
+  BackendArray<int> leaf_counts, parents, left_leaves;
   BackendArray<ClusterPair> nodes;
-  BackendArray<int> clusters, far_ends, index, first_slot, triangle_ids;
+  BackendArray<unsigned long long> far_ends;
+  BackendArray<int> clusters, index, first_slot, node_at, triangle_ids;
   BackendArray<int> status; // the node counter and the too-deep flag: one read at the end
   BackendArray<BvhNode> out_nodes;
   BackendArray<TriangleF> triangles;
   HplocArrays(Backend backend, int n)
       : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
-        nodes(backend, n - 1), clusters(backend, n), far_ends(backend, n - 1),
-        index(backend, n - 1), first_slot(backend, n - 1), triangle_ids(backend, n),
-        status(backend, 2), out_nodes(backend, n - 1), triangles(backend, n) {}
+        left_leaves(backend, 2 * n - 1), nodes(backend, n - 1), far_ends(backend, n - 1),
+        clusters(backend, n), index(backend, n - 1), first_slot(backend, n - 1),
+        node_at(backend, n - 1), triangle_ids(backend, n), status(backend, 2),
+        out_nodes(backend, n - 1), triangles(backend, n) {}
   ClusterTree tree(int n) {
-    return {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()};
+    return {
+        n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data(), left_leaves.data()};
   }
 };
 
@@ -167,10 +185,11 @@ std::optional<GpuBuild> hploc_tree(Backend backend, const ch04::Mesh& mesh, int 
   walk_up(backend, HplocWalk{tree, order.sorted_codes.data(), a.far_ends.data(),
                              a.clusters.data(), a.status.data(), radius, threshold});
   for_each_index(backend, n - 1,
-                 PlaceClusters{tree, a.index.data(), a.first_slot.data(), a.status.data() + 1});
+                 PlaceClusters{tree, a.index.data(), a.first_slot.data(), a.node_at.data(),
+                               a.status.data() + 1});
   for_each_index(backend, n - 1,
-                 WriteClusters{tree, a.index.data(), a.first_slot.data(),
-                               order.sorted_ids.data(), a.out_nodes.data(),
+                 WriteClusters{tree, a.index.data(), a.first_slot.data(), a.node_at.data(),
+                               order.sorted_ids.data(), a.status.data() + 1, a.out_nodes.data(),
                                a.triangle_ids.data()});
   for_each_index(backend, n,
                  GatherTriangles{order.mesh, a.triangle_ids.data(), a.triangles.data()});

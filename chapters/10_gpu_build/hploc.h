@@ -94,15 +94,13 @@ RT_HD inline int nth_set_bit(unsigned mask, int p) {
 // Lanes below `lane`: the mask that counts a lane's rank among the lanes set in a vote.
 RT_HD inline unsigned lanes_below(int lane) { return (1u << lane) - 1u; }
 
-// Interior node `node` (a number from n on) made of clusters left and right.
+// Interior node `node` (a number from n on) made of clusters left and right, the left one
+// of `leaves_left` leaves.
 RT_HD inline void write_cluster_node(const ClusterTree& tree, int node, int left, int right,
-                                     const Aabb& box, int leaves) {
-  const int interior = node - tree.n;
-  tree.nodes[interior] = {{left, right}};
+                                     const Aabb& box, int leaves, int leaves_left) {
   tree.boxes[node] = box;
   tree.leaf_counts[node] = leaves;
-  tree.parents[left] = 2 * interior;
-  tree.parents[right] = 2 * interior + 1;
+  link_children(tree, node - tree.n, left, right, leaves_left);
 }
 
 // Counts `count` new nodes and returns the number of the first (from 0; node n + first).
@@ -115,30 +113,59 @@ RT_HD inline int reserve_nodes(int* counter, int count) {
 }
 
 // [listing:hploc_climb]
-// One step up the LBVH's hierarchy (Apetrei 2014) for the subtree over sorted leaves L..R.
-// Its parent is the node of the boundary, L-1|L or R|R+1, whose two keys share the longer
-// prefix (karras.h's delta): that boundary splits lower in the tree. The first of the
-// parent's two children to arrive leaves its far end in the parent's slot and stops; the
-// second takes it, and goes on with the parent's whole range and the place where its right
-// child starts. The fences publish this subtree's clusters before the exchange, and order the
-// sibling's, read next, after it (as second_arrival does for the refit).
-RT_HD inline bool climb(const std::uint32_t* codes, int n, int* far_ends, int& first, int& last,
-                        int& split) {
-  const bool left_child =
-      first == 0 || (last != n - 1 &&
-                     delta(codes, n, last, last + 1LL) > delta(codes, n, first, first - 1LL));
-  const int parent = left_child ? last : first - 1;
-  const int far_end = left_child ? first : last;
+// A subtree on its way up the LBVH's hierarchy (Apetrei 2014): its sorted leaves first..last,
+// where its right child starts (once it has two), and the common prefix (karras.h's delta) its
+// range shares with the leaf just before it and with the leaf just after it, -1 past either
+// end of the array. The two prefixes decide where its parent lies; the boundary with the
+// longer one splits lower in the tree.
+struct Climber {
+  int first, last, split;
+  int prefix_before, prefix_after;
+};
+RT_HD inline Climber start_climb(const std::uint32_t* codes, int n, int leaf) {
+  return {leaf, leaf, 0, delta(codes, n, leaf, leaf - 1LL), delta(codes, n, leaf, leaf + 1LL)};
+}
+
+// What a node's slot holds before its first child arrives, and what the first leaves there:
+// its far end in the high word, the prefix beyond that end (+1, so never negative) in the low.
+inline constexpr unsigned long long k_no_far_end = ~0ull;
+RT_HD inline unsigned long long far_end_word(int far_end, int prefix) {
+  return static_cast<unsigned long long>(far_end) << 32 | static_cast<unsigned>(prefix + 1);
+}
+
+// One step up. The parent is the node of the boundary, first-1|first or last|last+1, whose
+// prefix is the longer. The first of the parent's two children to arrive leaves its far end
+// and the prefix beyond it in the parent's slot, and stops; the second takes them and goes on
+// with the parent's whole range, so no thread reads a Morton code after its start. On the GPU
+// one fence follows each exchange the thread goes on from: it orders the sibling's clusters,
+// read next, after the exchange, and this thread's clusters, written before its next
+// exchange, before that one (Warp::publish fences after a merge's writes too). The subtree's
+// first exchange follows no write of this kernel, and after its last nothing follows.
+RT_HD inline bool climb(int n, unsigned long long* far_ends, Climber& s) {
+  const bool left_child = s.first == 0 || (s.last != n - 1 && s.prefix_after > s.prefix_before);
+  const int parent = left_child ? s.last : s.first - 1;
+  const unsigned long long mine = left_child ? far_end_word(s.first, s.prefix_before)
+                                             : far_end_word(s.last, s.prefix_after);
 #if RT_ON_DEVICE
-  __threadfence();
-  const int other = atomicExch(&far_ends[parent], far_end);
+  const unsigned long long other = atomicExch(&far_ends[parent], mine);
+  if (other == k_no_far_end) return false; // the first to arrive: nothing follows
   __threadfence();
 #else
-  const int other = __atomic_exchange_n(&far_ends[parent], far_end, __ATOMIC_ACQ_REL);
+  const unsigned long long other =
+      __atomic_exchange_n(&far_ends[parent], mine, __ATOMIC_ACQ_REL);
+  if (other == k_no_far_end) return false;
 #endif
-  if (other < 0) return false;
-  split = left_child ? last + 1 : first;
-  (left_child ? last : first) = other;
+  const int far_end = static_cast<int>(other >> 32);
+  const int prefix = static_cast<int>(other & 0xffffffffu) - 1;
+  if (left_child) {
+    s.split = s.last + 1;
+    s.last = far_end;
+    s.prefix_after = prefix;
+  } else {
+    s.split = s.first;
+    s.first = far_end;
+    s.prefix_before = prefix;
+  }
   return true;
 }
 // [/listing:hploc_climb]
@@ -164,7 +191,7 @@ RT_HD inline bool gathers(int first, int last, int n, int threshold) {
 // left. Some pair always chooses each other (as in PLOC's MarkMerges), so each step merges at
 // least once and a list of c clusters takes at most c - target steps. `nodes` counts the new
 // nodes and writes them: int reserve(int count) and
-// void write(int node, int left, int right, const Aabb& box, int leaves).
+// void write(int node, int left, int right, const Aabb& box, int leaves, int leaves_left).
 template <class Nodes>
 void merge_cluster_list(ClusterList& list, int target, int radius, Nodes& nodes) {
   while (list.count > target) {
@@ -186,7 +213,7 @@ void merge_cluster_list(ClusterList& list, int target, int radius, Nodes& nodes)
       box.grow(list.box[j]);
       const int node = first + count_bits(makes & lanes_below(lane));
       const int leaves = list.leaves[lane] + list.leaves[j];
-      nodes.write(node, list.id[lane], list.id[j], box, leaves);
+      nodes.write(node, list.id[lane], list.id[j], box, leaves, list.leaves[lane]);
       list.id[lane] = node;
       list.box[lane] = box;
       list.leaves[lane] = leaves;

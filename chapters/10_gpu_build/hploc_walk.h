@@ -15,10 +15,10 @@ namespace rt::ch10 {
 // What the walk reads and writes.
 struct HplocWalk {
   ClusterTree tree;
-  const std::uint32_t* codes; // sorted
-  int* far_ends;              // n - 1: the first arrival's far end at each node, or -1
-  int* clusters;              // n: each subtree's list, from the start of its range
-  int* node_counter;          // interior nodes made so far
+  const std::uint32_t* codes;   // sorted
+  unsigned long long* far_ends; // n - 1: the first arrival's far_end_word, or k_no_far_end
+  int* clusters;                // n: each subtree's list, from the start of its range
+  int* node_counter;            // interior nodes made so far
   int radius, threshold;
   // The most clusters a completed subtree's list keeps: the threshold, one at the root.
   RT_HD int target(int first, int last) const {
@@ -32,8 +32,8 @@ struct HplocWalk {
 struct CpuNodes {
   const HplocWalk& walk;
   int reserve(int count) { return walk.tree.n + reserve_nodes(walk.node_counter, count); }
-  void write(int node, int left, int right, const Aabb& box, int leaves) {
-    write_cluster_node(walk.tree, node, left, right, box, leaves);
+  void write(int node, int left, int right, const Aabb& box, int leaves, int leaves_left) {
+    write_cluster_node(walk.tree, node, left, right, box, leaves, leaves_left);
   }
 };
 
@@ -60,11 +60,12 @@ inline ClusterList gather_lists(const HplocWalk& walk, int first, int split, int
 // The thread of one leaf, climbing while it arrives second.
 inline void walk_on_cpu(const HplocWalk& walk, int leaf) {
   const int n = walk.tree.n;
-  int first = leaf, last = leaf, split = 0;
+  Climber s = start_climb(walk.codes, n, leaf);
   CpuNodes nodes{walk};
-  while (climb(walk.codes, n, walk.far_ends, first, last, split)) {
+  while (climb(n, walk.far_ends, s)) {
+    const int first = s.first, last = s.last;
     if (!gathers(first, last, n, walk.threshold)) continue;
-    ClusterList list = gather_lists(walk, first, split, last);
+    ClusterList list = gather_lists(walk, first, s.split, last);
     merge_cluster_list(list, walk.target(first, last), walk.radius, nodes);
     for (int k = 0; k < list.count; ++k) walk.clusters[first + k] = list.id[k];
     if (list.count < slots_to_read(last - first + 1, walk.threshold))
@@ -82,8 +83,11 @@ inline void walk_on_cpu(const HplocWalk& walk, int leaf) {
 //   int shfl(int, int from), float shfl(float, int from)   lane `from`'s value (from % 32)
 //   float shfl_down(float, int d)     lane + d's value; the lane's own where lane + d > 31
 //   float shfl_up(float, int d)       lane - d's value; the lane's own where lane - d < 0
-//   void publish()                    this lane's writes seen by every thread before the
-//                                     warp's next step (a fence, then the warp in step)
+//   void sync()                       the warp in step: what any lane did before it comes
+//                                     before what every lane does after it
+//   void publish()                    every lane's writes seen by any thread that sees an
+//                                     exchange the warp makes after it (the warp in step,
+//                                     then a fence)
 
 // Reads of what another thread wrote during the walk, past the GPU's L1 cache, which another
 // multiprocessor's writes do not reach (refit.h's reason): volatile loads go to L2.
@@ -117,13 +121,17 @@ template <class Warp> RT_HD Aabb shuffle_box(Warp& warp, const Aabb& box, int fr
 // nearest_cluster on the warp: the lane computes the cost of its merge with the lane d places
 // to its right, whose box comes down by a shuffle, and hands the cost up to that lane by
 // another, so each of the 2 * radius candidates costs one box shuffle per pair, not one per
-// lane. The costs are merge_cost's, left box first, as on the CPU; better_candidate makes the
-// order they come in irrelevant.
+// lane. The costs are merge_cost's, left box first, as on the CPU. The candidates come in by
+// distance, so better_candidate's order needs no place comparison: every candidate met
+// before lies less than d places away, so lane + d lies right of all of them and must be
+// strictly cheaper, and lane - d lies left of all of them and wins a tie. Past count - 1
+// places there is nobody: the loop stops there (count is the same on every lane).
 template <class Warp>
 RT_HD int nearest_on_warp(Warp& warp, int lane, int count, int radius, const Aabb& own) {
   int best = -1;
-  float best_cost = 0.0f;
-  for (int d = 1; d <= radius; ++d) {
+  float best_cost = std::numeric_limits<float>::infinity();
+  const int reach = radius < count - 1 ? radius : count - 1;
+  for (int d = 1; d <= reach; ++d) {
     Aabb right;
     right.lo = {warp.shfl_down(own.lo.x, d), warp.shfl_down(own.lo.y, d),
                 warp.shfl_down(own.lo.z, d)};
@@ -131,12 +139,11 @@ RT_HD int nearest_on_warp(Warp& warp, int lane, int count, int radius, const Aab
                 warp.shfl_down(own.hi.z, d)};
     const float cost = merge_cost(own, right);     // with lane + d, if it is in the list
     const float from_left = warp.shfl_up(cost, d); // lane - d's, with this lane
-    if (lane + d < count && better_candidate(cost, lane + d, best_cost, best)) {
+    if (lane + d < count && (best < 0 || cost < best_cost)) {
       best = lane + d;
       best_cost = cost;
     }
-    if (lane < count && lane - d >= 0 &&
-        better_candidate(from_left, lane - d, best_cost, best)) {
+    if (lane < count && lane - d >= 0 && from_left <= best_cost) { // infinity <= infinity
       best = lane - d;
       best_cost = from_left;
     }
@@ -154,6 +161,7 @@ RT_HD int nearest_on_warp(Warp& warp, int lane, int count, int radius, const Aab
 template <class Warp>
 RT_HD void merge_on_warp(Warp& warp, const HplocWalk& walk, int lane, int first, int split,
                          int last) {
+  warp.sync(); // the owner's exchange and fence come before every lane's reads
   const int half = lane / k_hploc_threshold, slot = lane % k_hploc_threshold;
   const int start = half == 0 ? first : split;
   const int size = half == 0 ? split - first : last - split + 1;
@@ -189,9 +197,9 @@ RT_HD void merge_on_warp(Warp& warp, const HplocWalk& walk, int lane, int first,
     const int partner_leaves = warp.shfl(leaves, partner);
     if (make) {
       box.grow(partner_box);
-      leaves += partner_leaves;
       const int node = first_node + count_bits(makes & lanes_below(lane));
-      write_cluster_node(walk.tree, node, id, partner_id, box, leaves);
+      write_cluster_node(walk.tree, node, id, partner_id, box, leaves + partner_leaves, leaves);
+      leaves += partner_leaves;
       id = node;
     }
     count = count_bits(stays);
@@ -203,7 +211,7 @@ RT_HD void merge_on_warp(Warp& warp, const HplocWalk& walk, int lane, int first,
   if (lane < count) walk.clusters[first + lane] = id;
   if (lane == count && count < slots_to_read(last - first + 1, walk.threshold))
     walk.clusters[first + lane] = -1;
-  warp.publish(); // this lane's nodes and list, seen before the owner's exchange
+  warp.publish(); // every lane's nodes and list, seen before the owner's next exchange
 }
 // [/listing:hploc_merge_warp]
 
@@ -215,18 +223,18 @@ RT_HD void merge_on_warp(Warp& warp, const HplocWalk& walk, int lane, int first,
 template <class Warp>
 RT_HD void walk_on_warp(Warp& warp, const HplocWalk& walk, int leaf, int lane) {
   const int n = walk.tree.n;
-  int first = leaf, last = leaf, split = 0;
   bool climbing = leaf < n;
+  Climber s = climbing ? start_climb(walk.codes, n, leaf) : Climber{leaf, leaf, 0, -1, -1};
   while (warp.any(climbing)) {
-    if (climbing) climbing = climb(walk.codes, n, walk.far_ends, first, last, split);
-    unsigned waiting = warp.ballot(climbing && gathers(first, last, n, walk.threshold));
+    if (climbing) climbing = climb(n, walk.far_ends, s);
+    unsigned waiting = warp.ballot(climbing && gathers(s.first, s.last, n, walk.threshold));
     while (waiting != 0) {
       const int owner = lowest_set_bit(waiting);
       waiting &= waiting - 1;
-      merge_on_warp(warp, walk, lane, warp.shfl(first, owner), warp.shfl(split, owner),
-                    warp.shfl(last, owner));
+      merge_on_warp(warp, walk, lane, warp.shfl(s.first, owner), warp.shfl(s.split, owner),
+                    warp.shfl(s.last, owner));
     }
-    if (first == 0 && last == n - 1) climbing = false; // the root: done
+    if (s.first == 0 && s.last == n - 1) climbing = false; // the root: done
   }
 }
 // [/listing:hploc_kernel]

@@ -114,13 +114,12 @@ struct MergeClusters {
     }
     const int a = clusters[i], b = clusters[partner];
     const int id = first_new + offset, interior = id - tree.n;
-    tree.nodes[interior] = {{a, b}};
     Aabb box = tree.boxes[a];
     box.grow(tree.boxes[b]);
     tree.boxes[id] = box;
-    tree.leaf_counts[id] = tree.leaf_counts[a] + tree.leaf_counts[b];
-    tree.parents[a] = 2 * interior;
-    tree.parents[b] = 2 * interior + 1;
+    const int leaves_a = tree.leaf_counts[a];
+    tree.leaf_counts[id] = leaves_a + tree.leaf_counts[b];
+    link_children(tree, interior, a, b, leaves_a);
     next_clusters[at] = id;
   }
 };
@@ -215,19 +214,20 @@ std::size_t scan_scratch_bytes(int n) {
 // The arrays of one build.
 struct PlocArrays {
   BackendArray<Aabb> boxes;
-  BackendArray<int> leaf_counts, parents;
+  BackendArray<int> leaf_counts, parents, left_leaves;
   BackendArray<ClusterPair> nodes;
   BackendArray<int> clusters, next_clusters, neighbour, makes_node, stays, node_offset, place,
       totals;
   BackendArray<unsigned char> scan_scratch;
   PlocArrays(Backend backend, int n)
       : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
-        nodes(backend, n - 1), clusters(backend, n), next_clusters(backend, n),
-        neighbour(backend, n), makes_node(backend, n), stays(backend, n),
-        node_offset(backend, n), place(backend, n), totals(backend, 3),
+        left_leaves(backend, 2 * n - 1), nodes(backend, n - 1), clusters(backend, n),
+        next_clusters(backend, n), neighbour(backend, n), makes_node(backend, n),
+        stays(backend, n), node_offset(backend, n), place(backend, n), totals(backend, 3),
         scan_scratch(backend, backend == Backend::gpu ? scan_scratch_bytes(n) : 0) {}
   ClusterTree tree(int n) {
-    return {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()};
+    return {
+        n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data(), left_leaves.data()};
   }
 };
 

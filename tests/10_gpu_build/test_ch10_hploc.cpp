@@ -58,7 +58,9 @@ struct RecordedNodes {
     next += count;
     return first;
   }
-  void write(int node, int left, int right, const Aabb& box, int leaves) {
+  void write(int node, int left, int right, const Aabb& box, int leaves, int leaves_left) {
+    CHECK(leaves_left >= 1);
+    CHECK(leaves_left < leaves);
     made.push_back({node, left, right, box, leaves});
   }
 };
@@ -168,7 +170,7 @@ Mesh huge_soup() {
 // lockstep; and a collective that not every lane calls, or not the same one, is caught.
 class FiberWarp {
 public:
-  enum class Op { none, ballot, any, shfl, shfl_down, shfl_up, publish };
+  enum class Op { none, ballot, any, shfl, shfl_down, shfl_up, sync, publish };
 
   // What walk_on_warp calls: lane `lane` of this warp.
   struct Lane {
@@ -192,6 +194,7 @@ public:
       return std::bit_cast<float>(
           warp->collective(lane, Op::shfl_up, std::bit_cast<unsigned>(v), d));
     }
+    void sync() { warp->collective(lane, Op::sync, 0, 0); }
     void publish() { warp->collective(lane, Op::publish, 0, 0); }
   };
 
@@ -282,7 +285,8 @@ private:
 // leaf boxes made up for the test.
 struct WalkArrays {
   std::vector<Aabb> boxes;
-  std::vector<int> leaf_counts, parents, far_ends, clusters;
+  std::vector<int> leaf_counts, parents, left_leaves, clusters;
+  std::vector<unsigned long long> far_ends;
   std::vector<ClusterPair> nodes;
   int node_counter = 0;
   HplocWalk walk;
@@ -293,17 +297,19 @@ struct WalkArrays {
     std::copy(leaf_boxes.begin(), leaf_boxes.end(), boxes.begin());
     leaf_counts.assign(2 * n - 1, 1);
     parents.assign(2 * n - 1, -1);
-    far_ends.assign(n - 1, -1);
+    left_leaves.assign(2 * n - 1, 0);
+    far_ends.assign(n - 1, k_no_far_end);
     clusters.resize(n);
     for (int k = 0; k < n; ++k) clusters[k] = k;
     nodes.resize(n - 1);
-    walk = {{n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data()},
-            codes.data(),
-            far_ends.data(),
-            clusters.data(),
-            &node_counter,
-            radius,
-            threshold};
+    walk = {
+        {n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data(), left_leaves.data()},
+        codes.data(),
+        far_ends.data(),
+        clusters.data(),
+        &node_counter,
+        radius,
+        threshold};
   }
   // The tree as one walk from its root sees it, whatever numbers its nodes got: a leaf's
   // number, an interior node's leaf count and box bits, in depth-first order.
@@ -334,8 +340,10 @@ struct WalkArrays {
 };
 
 // Sorted codes with runs of equal ones, and boxes scattered around points along them.
+// Sorted codes (every seventh repeating the one before) and leaf boxes; with `ties`, boxes of
+// three repeated shapes, so that merge costs tie and the leftmost-of-equals rule decides.
 void made_up_leaves(int n, unsigned seed, std::vector<std::uint32_t>& codes,
-                    std::vector<Aabb>& boxes) {
+                    std::vector<Aabb>& boxes, bool ties = false) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<std::uint32_t> code(0, (1u << 30) - 1);
   std::uniform_real_distribution<float> where(0.0f, 100.0f), size(0.01f, 3.0f);
@@ -346,6 +354,11 @@ void made_up_leaves(int n, unsigned seed, std::vector<std::uint32_t>& codes,
   for (int k = 0; k < n; ++k) {
     const Vec3f c{float(k) * 0.1f + where(rng) * 0.05f, where(rng), where(rng)};
     boxes[k] = Aabb{};
+    if (ties) {
+      boxes[k].grow(Vec3f{float(k % 3), 0.0f, 0.0f});
+      boxes[k].grow(Vec3f{float(k % 3) + 1.0f, 1.0f, 1.0f});
+      continue;
+    }
     boxes[k].grow(c);
     boxes[k].grow(c + Vec3f{size(rng), size(rng), size(rng)});
   }
@@ -403,16 +416,20 @@ TEST_CASE("the GPU's walk, its warps played by fibers, builds the CPU threads' t
           "[ch10][hploc]") {
   // walk_on_warp is the kernel's code; here each warp's 32 lanes run in lockstep as fibers,
   // the warps one after another in a scrambled order (a schedule a GPU may choose).
+  // The cases with ties tell the warp's tie rule (nearest_on_warp) from the CPU's.
   struct Case {
     int n, radius, threshold;
+    bool ties;
   };
-  for (const Case c : {Case{700, k_ploc_radius, k_hploc_threshold}, Case{1500, 3, 8},
-                       Case{333, k_ploc_radius, 1}, Case{64, 31, k_hploc_threshold},
-                       Case{17, k_ploc_radius, k_hploc_threshold}, Case{2, 1, 1}}) {
-    CAPTURE(c.n, c.radius, c.threshold);
+  for (const Case c :
+       {Case{700, k_ploc_radius, k_hploc_threshold, false}, Case{1500, 3, 8, false},
+        Case{333, k_ploc_radius, 1, false}, Case{64, 31, k_hploc_threshold, false},
+        Case{17, k_ploc_radius, k_hploc_threshold, false}, Case{2, 1, 1, false},
+        Case{700, k_ploc_radius, k_hploc_threshold, true}, Case{300, 3, 8, true}}) {
+    CAPTURE(c.n, c.radius, c.threshold, c.ties);
     std::vector<std::uint32_t> codes;
     std::vector<Aabb> boxes;
-    made_up_leaves(c.n, 11 + c.n, codes, boxes);
+    made_up_leaves(c.n, 11 + c.n, codes, boxes, c.ties);
     WalkArrays on_cpu(codes, boxes, c.radius, c.threshold);
     for (int leaf = c.n - 1; leaf >= 0; --leaf) walk_on_cpu(on_cpu.walk, leaf);
     WalkArrays on_warps(codes, boxes, c.radius, c.threshold);
