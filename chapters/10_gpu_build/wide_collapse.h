@@ -16,6 +16,7 @@ namespace rt::ch10 {
 // each one covering more than three triangles replaced by its own two: at most four children.
 inline constexpr int k_wide_leaf_triangles = ch09::k_max_leaf_triangles;
 
+// [listing:wide_order_record]
 // A wide node's children in slot order, as the collapse's second pass works them out from the
 // binary nodes (two levels of them, the triangle ranges, the octant slots) and keeps them for
 // the third and fourth, which would otherwise work them out again. Position p holds a child
@@ -26,6 +27,7 @@ struct alignas(16) WideOrder {
   int count[4];  // a leaf's triangles; 0 for an interior child
   int slot[4];   // its octant slot
 };
+// [/listing:wide_order_record]
 
 // The collapse's arrays, made once for trees of `triangle_count` triangles; run() collapses a
 // tree (every frame's, in an animation) with the passes alone: on the GPU nothing waits.
