@@ -28,6 +28,7 @@ constexpr BuilderInfo k_info[] = {
     {Builder::lbvh63, "LBVH 63-bit", "lbvh63"},
     {Builder::ploc, "PLOC", "ploc"},
     {Builder::hploc, "H-PLOC", "hploc"},
+    {Builder::hploc_treelets, "H-PLOC + treelets", "hploc_treelets"},
 };
 
 const BuilderInfo& info(Builder builder) {
@@ -99,8 +100,12 @@ BuiltTree build_tree(Builder builder, Backend backend, const ch04::Mesh& mesh) {
     GpuBuild build = timed_build(backend, [&] { return build_ploc(backend, mesh); });
     return {std::move(build.bvh), backend, std::move(build.note)};
   }
-  case Builder::hploc: {
-    GpuBuild build = timed_build(backend, [&] { return build_hploc(backend, mesh); });
+  case Builder::hploc:
+  case Builder::hploc_treelets: {
+    const int rounds = builder == Builder::hploc ? 0 : k_treelet_rounds;
+    GpuBuild build = timed_build(backend, [&] {
+      return build_hploc(backend, mesh, k_ploc_radius, k_hploc_threshold, rounds);
+    });
     return {std::move(build.bvh), backend, std::move(build.note)};
   }
   }

@@ -25,15 +25,18 @@ enum class Builder {
   lbvh63,  // the same from 63-bit codes
   ploc,    // PLOC: clusters merged with their nearest neighbours, from 30-bit Morton order
   hploc,   // H-PLOC: PLOC inside the 30-bit LBVH's subtrees, in one walk up its hierarchy
+  hploc_treelets, // H-PLOC's tree, then rounds of treelet restructuring (treelets.h)
 };
 // [/listing:builders]
 
-inline constexpr Builder k_all_builders[] = {Builder::cpu_sah, Builder::lbvh, Builder::lbvh63,
-                                             Builder::ploc, Builder::hploc};
+inline constexpr Builder k_all_builders[] = {Builder::cpu_sah, Builder::lbvh,
+                                             Builder::lbvh63,  Builder::ploc,
+                                             Builder::hploc,   Builder::hploc_treelets};
 
 // The name in report rows ("CPU SAH (ch07)", "LBVH", ...).
 const char* to_string(Builder builder);
-// The builder of a name on the command line (cpu_sah, lbvh, lbvh63, ploc, hploc); throws
+// The builder of a name on the command line (cpu_sah, lbvh, lbvh63, ploc, hploc,
+// hploc_treelets); throws
 // UsageError naming them for an unknown one.
 Builder parse_builder(std::string_view name);
 

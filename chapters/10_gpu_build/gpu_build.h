@@ -135,10 +135,13 @@ inline constexpr int k_hploc_threshold = k_warp_lanes / 2;
 // triangle per leaf, laid out depth first; both backends give the same tree bit for bit. A
 // threshold of 1 merges every node's two clusters as they come: the LBVH itself. A tree
 // deeper than chapter 07's stack allows is replaced by the 30-bit LBVH (GpuBuild::note says
-// so). Throws InputError as build_lbvh does, and for a radius outside 1..31 or a threshold
-// outside 1..16.
+// so). `treelet_rounds` rounds of treelet restructuring (treelets.h) then improve the tree
+// before it is laid out. Throws InputError as build_lbvh does, and for a radius outside
+// 1..31, a threshold outside 1..16 or rounds outside 0..k_max_treelet_rounds.
+inline constexpr int k_max_treelet_rounds = 8;
+inline constexpr int k_treelet_rounds = 3; // the rounds of the builder "H-PLOC + treelets"
 GpuBuild build_hploc(Backend backend, const ch04::Mesh& mesh, int radius = k_ploc_radius,
-                     int threshold = k_hploc_threshold);
+                     int threshold = k_hploc_threshold, int treelet_rounds = 0);
 
 // New boxes for the same tree after the mesh's vertices moved (same triangles, same vertex
 // count): the triangle copies are taken again from `mesh`, every box is recomputed from the

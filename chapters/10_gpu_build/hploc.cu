@@ -13,6 +13,7 @@
 #include "hploc_walk.h"
 #include "model_render.h"
 #include "rt/error.h"
+#include "treelets.h"
 
 namespace rt::ch10 {
 namespace {
@@ -70,7 +71,28 @@ __global__ void hploc_kernel(HplocWalk walk) {
   walk_on_warp(warp, walk, static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x),
                static_cast<int>(threadIdx.x % k_warp_lanes));
 }
+
+// A round of treelet restructuring, the warp searching each treelet together (treelets.h).
+__global__ void treelet_kernel(RestructureTreelets pass) {
+  __shared__ TreeletTables tables[k_hploc_block / k_warp_lanes];
+  DeviceWarp warp;
+  restructure_on_warp(warp, pass, static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x),
+                      static_cast<int>(threadIdx.x % k_warp_lanes),
+                      tables[threadIdx.x / k_warp_lanes]);
+}
 #endif
+
+void restructure_round(Backend backend, const RestructureTreelets& pass) {
+  const int n = pass.tree.n;
+  if (backend == Backend::cpu) {
+    for_each_index(backend, n, pass);
+    return;
+  }
+#if RT_DEVICE_CODE_POSSIBLE
+  treelet_kernel<<<blocks_to_cover(n, k_hploc_block), k_hploc_block>>>(pass);
+  RT_CUDA_CHECK_LAUNCH("treelet_kernel");
+#endif
+}
 
 void walk_up(Backend backend, const HplocWalk& walk) {
   const int n = walk.tree.n;
@@ -153,14 +175,16 @@ struct HplocArrays {
   BackendArray<ClusterPair> nodes;
   BackendArray<unsigned long long> far_ends;
   BackendArray<int> clusters, index, first_slot, node_at, triangle_ids;
+  BackendArray<unsigned> arrivals; // the treelet rounds' counters
   BackendArray<int> status; // the node counter and the too-deep flag: one read at the end
   BackendArray<BvhNode> out_nodes;
   BackendArray<TriangleF> triangles;
-  HplocArrays(Backend backend, int n)
+  HplocArrays(Backend backend, int n, int treelet_rounds)
       : boxes(backend, 2 * n - 1), leaf_counts(backend, 2 * n - 1), parents(backend, 2 * n - 1),
         left_leaves(backend, 2 * n - 1), nodes(backend, n - 1), far_ends(backend, n - 1),
         clusters(backend, n), index(backend, n - 1), first_slot(backend, n - 1),
-        node_at(backend, n - 1), triangle_ids(backend, n), status(backend, 2),
+        node_at(backend, n - 1), triangle_ids(backend, n),
+        arrivals(backend, treelet_rounds > 0 ? n - 1 : 0), status(backend, 2),
         out_nodes(backend, n - 1), triangles(backend, n) {}
   ClusterTree tree(int n) {
     return {
@@ -169,11 +193,11 @@ struct HplocArrays {
 };
 
 std::optional<GpuBuild> hploc_tree(Backend backend, const ch04::Mesh& mesh, int radius,
-                                   int threshold) {
+                                   int threshold, int treelet_rounds) {
   const int n = static_cast<int>(mesh.triangles.size());
   MeshArrays d_mesh(backend, mesh);
   MortonOrder<std::uint32_t> order(backend, d_mesh.view());
-  HplocArrays a(backend, n);
+  HplocArrays a(backend, n, treelet_rounds);
   a.status.fill_bytes(0);
 
   BackendStopwatch clock(backend); // build time: events around the kernels, or wall time
@@ -184,6 +208,11 @@ std::optional<GpuBuild> hploc_tree(Backend backend, const ch04::Mesh& mesh, int 
                              a.clusters.data(), a.far_ends.data()});
   walk_up(backend, HplocWalk{tree, order.sorted_codes.data(), a.far_ends.data(),
                              a.clusters.data(), a.status.data(), radius, threshold});
+  for (int round = 0; round < treelet_rounds; ++round) {
+    a.arrivals.fill_bytes(0);
+    restructure_round(backend,
+                      RestructureTreelets{tree, a.arrivals.data(), treelet_min_leaves(round)});
+  }
   for_each_index(backend, n - 1,
                  PlaceClusters{tree, a.index.data(), a.first_slot.data(), a.node_at.data(),
                                a.status.data() + 1});
@@ -209,7 +238,8 @@ std::optional<GpuBuild> hploc_tree(Backend backend, const ch04::Mesh& mesh, int 
 
 } // namespace
 
-GpuBuild build_hploc(Backend backend, const ch04::Mesh& mesh, int radius, int threshold) {
+GpuBuild build_hploc(Backend backend, const ch04::Mesh& mesh, int radius, int threshold,
+                     int treelet_rounds) {
   if (radius < 1 || radius > k_warp_lanes - 1)
     throw InputError("H-PLOC radius " + std::to_string(radius) + ": it takes 1 to " +
                      std::to_string(k_warp_lanes - 1));
@@ -222,7 +252,10 @@ GpuBuild build_hploc(Backend backend, const ch04::Mesh& mesh, int radius, int th
   if (backend == Backend::gpu)
     ch05::check_device_memory(static_cast<std::size_t>(n) * device_bytes_per_triangle(),
                               "the H-PLOC tree of " + std::to_string(n) + " triangles");
-  std::optional<GpuBuild> built = hploc_tree(backend, mesh, radius, threshold);
+  if (treelet_rounds < 0 || treelet_rounds > k_max_treelet_rounds)
+    throw InputError("treelet rounds " + std::to_string(treelet_rounds) + ": it takes 0 to " +
+                     std::to_string(k_max_treelet_rounds));
+  std::optional<GpuBuild> built = hploc_tree(backend, mesh, radius, threshold, treelet_rounds);
   if (!built) {
     GpuBuild lbvh = build_lbvh(backend, mesh, CodeWidth::bits30);
     lbvh.note = "H-PLOC's tree was deeper than the traversal stack; built as the 30-bit LBVH";

@@ -187,7 +187,8 @@ int main(int argc, char** argv) {
   ch07::add_query_options(app, options.query, "every builder's build and rays");
   app.add_option_function<std::string>(
          "--builder", [&](const std::string& text) { options.builder = parse_builder(text); },
-         "One builder: cpu_sah, lbvh, lbvh63, ploc or hploc (the queries' and the moving "
+         "One builder: cpu_sah, lbvh, lbvh63, ploc, hploc or hploc_treelets (the queries' and "
+         "the moving "
          "scene's tree; the measurements then compare it with cpu_sah alone)")
       ->default_str("all (queries and --moving: lbvh)");
   app.add_flag("--moving", options.moving,

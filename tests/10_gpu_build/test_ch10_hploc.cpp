@@ -2,8 +2,9 @@
 // same clusters; trees that pass chapter 07's checker and give brute force's hits; a cost near
 // PLOC's and below the LBVH's; the threshold that makes it the LBVH, and thresholds and radii
 // that change the tree; degenerate input within the depth bound or handed to the LBVH; no ray
-// leaking out of closed meshes; bad input refused. The [gpu] cases: the GPU's tree is the CPU
-// threads', bit for bit.
+// leaking out of closed meshes; bad input refused. The treelet search against making every
+// tree, a worst-shaped treelet rewired, rounds that lower the cost and keep the tree exact.
+// The [gpu] cases: the GPU's tree is the CPU threads', bit for bit.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -28,6 +29,7 @@
 #include "hploc_walk.h"
 #include "leak_configurations.h"
 #include "rt/error.h"
+#include "treelets.h"
 #include "wide_collapse.h"
 
 #include <ucontext.h>
@@ -648,4 +650,281 @@ TEST_CASE("the GPU's collapse of H-PLOC's tree is the CPU's", "[ch10][hploc][gpu
   CHECK(ch09::check_wide_tree(gpu, mesh).empty());
   CHECK(rt::testing::same_bits(gpu.nodes, cpu.nodes));
   CHECK(rt::testing::same_bits(gpu.triangles, cpu.triangles));
+}
+
+// --- Treelet restructuring (treelets.h) ---
+
+namespace {
+
+// The least total area of the interior nodes of any binary tree over `boxes`, found by making
+// every tree: leaf k joins a tree over leaves 0 .. k-1 above any of its nodes (as the sibling
+// of that node, under a new parent), which makes each of the 1 * 3 * 5 * ... * (2k - 3) trees
+// once. A tree is kept as a list of interior nodes, each the set of leaves below it.
+double least_area_by_every_tree(const std::vector<Aabb>& boxes) {
+  struct Tree {
+    std::vector<unsigned> sets; // interior nodes' leaves
+    std::vector<unsigned> all;  // every node's leaves: interior and leaves
+  };
+  std::vector<Tree> trees = {{{}, {1u}}};
+  for (int k = 1; k < static_cast<int>(boxes.size()); ++k) {
+    std::vector<Tree> next;
+    for (const Tree& tree : trees)
+      for (const unsigned below : tree.all) {
+        // The new parent holds `below` and leaf k; every node above `below` gains leaf k.
+        Tree grown;
+        for (const unsigned set : tree.sets)
+          grown.sets.push_back((set & below) == below && set != below ? set | 1u << k : set);
+        grown.sets.push_back(below | 1u << k);
+        grown.all = grown.sets;
+        for (int leaf = 0; leaf <= k; ++leaf) grown.all.push_back(1u << leaf);
+        next.push_back(std::move(grown));
+      }
+    trees = std::move(next);
+  }
+  double least = std::numeric_limits<double>::infinity();
+  for (const Tree& tree : trees) {
+    double area = 0.0;
+    for (const unsigned set : tree.sets) {
+      Aabb box;
+      for (int leaf = 0; leaf < static_cast<int>(boxes.size()); ++leaf)
+        if ((set >> leaf & 1u) != 0) box.grow(boxes[leaf]);
+      area += box.half_area();
+    }
+    least = std::min(least, area);
+  }
+  return least;
+}
+
+// A treelet whose leaves are `boxes` (leaves of the tree too), in any shape: the search only
+// reads its leaves.
+Treelet treelet_of(const std::vector<Aabb>& boxes) {
+  Treelet t;
+  t.leaf_count = static_cast<int>(boxes.size());
+  for (int i = 0; i < t.leaf_count; ++i) {
+    t.leaf[i] = i;
+    t.box[i] = boxes[i];
+  }
+  return t;
+}
+
+// The total area of the interior nodes of the tree split[] describes over `set`.
+double area_of_searched_tree(const Treelet& t, const TreeletSearch& s, unsigned set) {
+  if ((set & (set - 1u)) == 0) return 0.0;
+  return double(subset_area(t, set)) + area_of_searched_tree(t, s, s.split[set]) +
+         area_of_searched_tree(t, s, set ^ s.split[set]);
+}
+
+std::vector<Aabb> random_boxes(int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> at(-10.0f, 10.0f), size(0.01f, 3.0f);
+  std::vector<Aabb> boxes(count);
+  for (Aabb& box : boxes) {
+    box.lo = {at(rng), at(rng), at(rng)};
+    box.hi = box.lo + Vec3f{size(rng), size(rng), size(rng)};
+  }
+  return boxes;
+}
+
+} // namespace
+
+TEST_CASE("the treelet search finds the cheapest tree that making every tree finds",
+          "[ch10][treelets]") {
+  for (int count = 2; count <= k_treelet_leaves; ++count)
+    for (unsigned seed = 0; seed < 12; ++seed) {
+      CAPTURE(count, seed);
+      const std::vector<Aabb> boxes = random_boxes(count, 100 * count + seed);
+      const Treelet t = treelet_of(boxes);
+      TreeletSearch s;
+      search_treelet(t, s);
+      const unsigned all = (1u << count) - 1u;
+      const double least = least_area_by_every_tree(boxes);
+      CHECK(s.cost[all] == Approx(least).epsilon(1e-6));
+      CHECK(area_of_searched_tree(t, s, all) == Approx(least).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("a treelet in the worst shape is rewired into the best one", "[ch10][treelets]") {
+  // Seven unit boxes on a line, merged as a chain from the left (each node the previous one
+  // and the next box): the worst tree over them. The best is balanced.
+  const int n = k_treelet_leaves;
+  std::vector<Aabb> boxes(2 * n - 1);
+  std::vector<int> leaf_counts(2 * n - 1, 1), parents(2 * n - 1, -1), left_leaves(2 * n - 1, 0);
+  std::vector<ClusterPair> nodes(n - 1);
+  for (int k = 0; k < n; ++k) {
+    boxes[k].lo = {float(3 * k), 0.0f, 0.0f};
+    boxes[k].hi = {float(3 * k + 1), 1.0f, 1.0f};
+  }
+  const ClusterTree tree{
+      n, boxes.data(), leaf_counts.data(), nodes.data(), parents.data(), left_leaves.data()};
+  // Interior node j (number n + j) joins node n + j + 1 (or leaf n - 2) with leaf n - 1 - j:
+  // the root n + 0 at the top.
+  for (int j = n - 2; j >= 0; --j) {
+    const int left = j == n - 2 ? 0 : n + j + 1, right = n - 1 - j;
+    Aabb box = boxes[left];
+    box.grow(boxes[right]);
+    boxes[n + j] = box;
+    leaf_counts[n + j] = leaf_counts[left] + 1;
+    link_children(tree, j, left, right, leaf_counts[left]);
+  }
+  const Aabb root_box = boxes[n];
+  auto interior_area = [&] {
+    double area = 0.0;
+    for (int j = 0; j < n - 1; ++j) area += boxes[n + j].half_area();
+    return area;
+  };
+  const double before = interior_area();
+  REQUIRE(restructure_treelet(tree, n));
+  CHECK(interior_area() < before);
+  CHECK(interior_area() ==
+        Approx(least_area_by_every_tree({boxes.begin(), boxes.begin() + n})));
+  // Still one tree over the seven leaves: links both ways, counts and boxes of the children.
+  CHECK(rt::testing::same_bits(boxes[n], root_box));
+  CHECK(parents[n] == -1);
+  std::vector<int> seen(2 * n - 1, 0);
+  for (int j = 0; j < n - 1; ++j) {
+    Aabb box;
+    int leaves = 0;
+    for (int c = 0; c < 2; ++c) {
+      const int child = nodes[j].child[c];
+      ++seen[child];
+      CHECK(parents[child] == 2 * j + c);
+      box.grow(boxes[child]);
+      leaves += leaf_counts[child];
+    }
+    CHECK(left_leaves[nodes[j].child[1]] == leaf_counts[nodes[j].child[0]]);
+    CHECK(rt::testing::same_bits(box, boxes[n + j]));
+    CHECK(leaves == leaf_counts[n + j]);
+  }
+  CHECK(seen[n] == 0);
+  for (int x = 0; x < 2 * n - 1; ++x)
+    if (x != n) CHECK(seen[x] == 1);
+  // The best shape is kept: a second pass finds nothing cheaper.
+  CHECK(!restructure_treelet(tree, n));
+}
+
+TEST_CASE("the GPU's treelet walk, its warps played by fibers, makes the CPU threads' tree",
+          "[ch10][treelets]") {
+  // restructure_on_warp is the kernel's code: each treelet searched by a whole warp, the
+  // lanes in lockstep as fibers, the warps one after another in a scrambled order.
+  for (const int n : {1500, 700, 45, 9, 2}) {
+    CAPTURE(n);
+    std::vector<std::uint32_t> codes;
+    std::vector<Aabb> boxes;
+    made_up_leaves(n, 3 + n, codes, boxes);
+    WalkArrays on_cpu(codes, boxes, k_ploc_radius, k_hploc_threshold);
+    WalkArrays on_warps(codes, boxes, k_ploc_radius, k_hploc_threshold);
+    for (int leaf = 0; leaf < n; ++leaf) {
+      walk_on_cpu(on_cpu.walk, leaf);
+      walk_on_cpu(on_warps.walk, leaf);
+    }
+    const std::vector<std::uint32_t> before = on_cpu.shape();
+    for (int round = 0; round < k_treelet_rounds; ++round) {
+      std::vector<unsigned> cpu_arrivals(n - 1, 0u), warp_arrivals(n - 1, 0u);
+      const RestructureTreelets threads{on_cpu.walk.tree, cpu_arrivals.data(),
+                                        treelet_min_leaves(round)};
+      for (int leaf = n - 1; leaf >= 0; --leaf) threads(leaf);
+      const RestructureTreelets warps{on_warps.walk.tree, warp_arrivals.data(),
+                                      treelet_min_leaves(round)};
+      const int warp_count = (n + k_warp_lanes - 1) / k_warp_lanes;
+      std::vector<int> order(warp_count);
+      for (int w = 0; w < warp_count; ++w) order[w] = w;
+      std::shuffle(order.begin(), order.end(), std::mt19937(n + round));
+      FiberWarp warp;
+      TreeletTables tables;
+      for (const int w : order)
+        REQUIRE(warp.run([&](FiberWarp::Lane& lane) {
+          restructure_on_warp(lane, warps, w * k_warp_lanes + lane.lane, lane.lane, tables);
+        }));
+      CHECK(on_warps.shape() == on_cpu.shape());
+    }
+    // The rounds did something, where there was room: seven leaves make a treelet.
+    if (n >= 45) CHECK(on_cpu.shape() != before);
+  }
+}
+
+TEST_CASE("treelet rounds make H-PLOC's tree cheaper, and keep it whole and exact",
+          "[ch10][treelets]") {
+  for (const Vec3f centre : {Vec3f{}, Vec3f{-1e5f, 2e4f, 1e5f}}) {
+    CAPTURE(centre.x);
+    Mesh mesh = rt::testing::mixed_scene(6000, 37);
+    for (Vec3f& v : mesh.vertices) v = v + centre;
+    const GpuBuild plain = build_hploc(Backend::cpu, mesh);
+    double cost = plain.bvh.stats.sah_cost;
+    for (int rounds = 1; rounds <= 3; ++rounds) {
+      CAPTURE(rounds);
+      const GpuBuild better =
+          build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold, rounds);
+      CHECK(better.note.empty());
+      CHECK(ch07::check_bvh(better.bvh, mesh).empty());
+      // Never worse, round after round; the first round does the most.
+      CHECK(better.bvh.stats.sah_cost <= cost);
+      if (rounds == 1) CHECK(better.bvh.stats.sah_cost < 0.99 * cost);
+      cost = better.bvh.stats.sah_cost;
+      const auto rays = rt::testing::random_rays(2000, 23, centre, 10.0f);
+      CHECK(brute_force_mismatches(better.bvh.view(), mesh, rays) == 0);
+      ch07::Bvh refitted = better.bvh;
+      refit_bvh(Backend::cpu, refitted, mesh);
+      CHECK(same_tree(refitted, better.bvh));
+    }
+  }
+}
+
+TEST_CASE("the CPU threads restructure H-PLOC's tree the same way every time",
+          "[ch10][treelets]") {
+  const Mesh mesh = rt::testing::random_soup(20000, 47);
+  const GpuBuild a = build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold, 2);
+  for (int run = 0; run < 3; ++run)
+    CHECK(same_tree(build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold, 2).bvh,
+                    a.bvh));
+}
+
+TEST_CASE("restructured trees: no leaks, degenerate input, bad rounds refused",
+          "[ch10][treelets]") {
+  for (const ch04::LeakConfiguration& config : ch04::k_leak_configurations) {
+    CAPTURE(config.name);
+    const Mesh mesh = config.make_mesh();
+    const std::vector<RayF> rays = ch04::rays_at_vertices_and_edges(
+        mesh, config.inside(), config.spread, 20000, config.seed);
+    const ch07::Bvh tree =
+        build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold, k_treelet_rounds).bvh;
+    CHECK(ch07::check_bvh(tree, mesh).empty());
+    int leaks = 0;
+    for (const RayF& ray : rays)
+      leaks += ch07::trace_bvh<ch07::Query::closest, ch04::TriangleVariant::watertight>(
+                   tree.view(), ray)
+                   .triangle < 0;
+    CHECK(leaks == 0);
+  }
+  // Areas of infinity and NaN (huge coordinates), every box equal, chains: whole trees.
+  for (const Mesh& mesh : {huge_soup(), identical_triangles(3), identical_triangles(500),
+                           power_of_two_chain(300), collinear_triangles(5000)}) {
+    CAPTURE(mesh.triangles.size());
+    const GpuBuild built =
+        build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold, k_treelet_rounds);
+    CHECK(ch07::check_bvh(built.bvh, mesh).empty());
+    CHECK(built.bvh.stats.depth <= ch07::k_max_bvh_depth - 1);
+  }
+  const Mesh mesh = identical_triangles(4);
+  CHECK_THROWS_WITH(build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold, -1),
+                    Catch::Matchers::Contains("treelet rounds -1: it takes 0 to 8"));
+  CHECK_THROWS_AS(build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold,
+                              k_max_treelet_rounds + 1),
+                  InputError);
+}
+
+TEST_CASE("the GPU restructures H-PLOC's tree as the CPU does, bit for bit",
+          "[ch10][treelets][gpu]") {
+  RT_REQUIRE_GPU();
+  for (const Mesh& mesh :
+       {rt::testing::mixed_scene(20000, 41), rt::testing::random_soup(300000, 43), huge_soup(),
+        identical_triangles(3000), collinear_triangles(100000)}) {
+    CAPTURE(mesh.triangles.size());
+    const GpuBuild gpu =
+        build_hploc(Backend::gpu, mesh, k_ploc_radius, k_hploc_threshold, k_treelet_rounds);
+    const GpuBuild cpu =
+        build_hploc(Backend::cpu, mesh, k_ploc_radius, k_hploc_threshold, k_treelet_rounds);
+    CHECK(ch07::check_bvh(gpu.bvh, mesh).empty());
+    CHECK(same_tree(gpu.bvh, cpu.bvh));
+    CHECK(gpu.note == cpu.note);
+  }
 }

@@ -49,7 +49,8 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
   for (const char* type : {"primary", "ao", "diffuse"})
     for (const char* tree :
          {"CPU SAH (ch07)", "LBVH", "LBVH 63-bit", "PLOC", "PLOC 4-wide",
-          "LBVH 4-wide (parallel collapse)", "H-PLOC", "H-PLOC 4-wide (parallel collapse)"})
+          "LBVH 4-wide (parallel collapse)", "H-PLOC", "H-PLOC 4-wide (parallel collapse)",
+          "H-PLOC + treelets", "H-PLOC + treelets 4-wide (parallel collapse)"})
       CHECK_THAT(run.output,
                  contains(std::string("cornell_room, ") + type + ", " + tree + " "));
   CHECK_THAT(
@@ -74,8 +75,8 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
     CHECK(row.at("metrics").at("differing_from_ch07").get<double>() == 0.0);
     ++traced;
   }
-  CHECK(traced == 45); // 3 ray types x 5 builders x (binary, 4-wide, parallel 4-wide)
-  CHECK(builds == 5);
+  CHECK(traced == 54); // 3 ray types x 6 builders x (binary, 4-wide, parallel 4-wide)
+  CHECK(builds == 6);
 }
 
 TEST_CASE("program: --builder narrows the builds to it and chapter 07's", "[ch10]") {
@@ -109,7 +110,7 @@ TEST_CASE("program: ray files through each built tree give brute force's hits", 
   const std::string ray_file = (folder / "rays.bin").string();
   const std::string hit_file = (folder / "hits.bin").string();
   write_ray_file(ray_file, rays);
-  for (const char* builder : {"lbvh", "lbvh63", "ploc", "hploc"}) {
+  for (const char* builder : {"lbvh", "lbvh63", "ploc", "hploc", "hploc_treelets"}) {
     CAPTURE(builder);
     const std::vector<MeshHit> hits = rt::testing::hits_from_program(
         run_program, "--scene " + k_room + " --builder " + builder, ray_file, hit_file,
