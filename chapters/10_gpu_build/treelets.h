@@ -48,8 +48,7 @@ struct Treelet {
 // with, then, while it has fewer than seven leaves, the leaf of largest area that is an
 // interior node of the tree is opened (the first of equal ones), its children becoming
 // leaves. Reads what other threads wrote earlier in the walk.
-RT_HD inline Treelet open_treelet(const ClusterTree& tree, int root) {
-  Treelet t;
+RT_HD inline void open_treelet(const ClusterTree& tree, int root, Treelet& t) {
   t.node[0] = root;
   for (int c = 0; c < 2; ++c) {
     t.leaf[c] = load_published(&tree.nodes[root - tree.n].child[c]);
@@ -67,7 +66,7 @@ RT_HD inline Treelet open_treelet(const ClusterTree& tree, int root) {
         largest = area;
       }
     }
-    if (open < 0) return t; // every leaf a leaf of the tree
+    if (open < 0) return; // every leaf a leaf of the tree
     const int k = t.leaf_count - 1, x = t.leaf[open], added = t.leaf_count;
     t.node[k] = x;
     for (int j = 0; j < k; ++j) // the child that was leaf `open` is now node k
@@ -81,7 +80,6 @@ RT_HD inline Treelet open_treelet(const ClusterTree& tree, int root) {
     }
     ++t.leaf_count;
   }
-  return t;
 }
 
 // The treelet's cost of the leaves in `set` (a bit per leaf) under one node: their box's area.
@@ -203,7 +201,8 @@ RT_HD inline void search_treelet(const Treelet& t, TreeletSearch& s) {
 // The treelet under interior node `root`, searched and, where the best tree is cheaper than
 // the shape it has, rewired into it; by one thread. Returns whether it changed.
 RT_HD inline bool restructure_treelet(const ClusterTree& tree, int root) {
-  const Treelet t = open_treelet(tree, root);
+  Treelet t;
+  open_treelet(tree, root, t);
   if (t.leaf_count < 3) return false; // one shape only
   TreeletSearch s;
   search_treelet(t, s);
@@ -248,9 +247,11 @@ struct RestructureTreelets {
 // first, each lane taking every 32nd; a subset's parts have fewer leaves, so each size needs
 // only the sizes before it, and the warp steps together in between. With seven leaves the
 // slowest lane of each size, one size after the other, weighs 177 splits instead of 966.
-// `tables` are the warp's own (shared memory on the GPU). The search sums and compares as the
-// thread's does, so the tree is the same bit for bit.
+// The treelet and the tables are the warp's own, one copy that every lane reads (shared
+// memory on the GPU): the owner opens the treelet, the lanes search it, the owner rewires it.
+// The search sums and compares as the thread's does, so the tree is the same bit for bit.
 struct TreeletTables {
+  Treelet treelet;
   float cost[k_treelet_subsets];
   unsigned char split[k_treelet_subsets];
 };
@@ -265,9 +266,11 @@ RT_HD void restructure_on_warp(Warp& warp, const RestructureTreelets& pass, int 
     for (unsigned waiting = warp.ballot(climbing && pass.wants(x)); waiting != 0;
          waiting &= waiting - 1) {
       const int owner = lowest_set_bit(waiting);
-      const Treelet t = open_treelet(tree, warp.shfl(x, owner)); // every lane the same
-      if (t.leaf_count < 3) continue;
       warp.sync(); // the tables' last reader, the owner before, is done with them
+      if (lane == owner) open_treelet(tree, x, tables.treelet);
+      warp.sync();
+      const Treelet& t = tables.treelet;
+      if (t.leaf_count < 3) continue;
       const unsigned all = (1u << t.leaf_count) - 1u;
       for (int size = 1; size <= t.leaf_count; ++size) {
         for (unsigned set = lane + 1u; set <= all; set += k_warp_lanes)
