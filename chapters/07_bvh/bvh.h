@@ -50,7 +50,7 @@ struct Aabb {
 // multiplies floats, which overflows to infinity once a box is wider than about 1.8e19 (the
 // square root of the largest float); every SAH cost is then inf / inf = NaN and the heuristic
 // silently stops choosing. A double holds the product of any two floats.
-inline double half_area_of(const Aabb& box) {
+RT_HD inline double half_area_of(const Aabb& box) {
   if (box.empty()) return 0.0;
   const Vec3d e = box.hi.as<double>() - box.lo.as<double>();
   return e.x * e.y + e.y * e.z + e.z * e.x;

@@ -237,10 +237,8 @@ public:
 
 private:
   // Interior node n's distribute(n, j) for j = 2..width, and the k that gives each.
-  struct Partial {
+  struct Partial : CostSpread<k_slots> {
     int node;
-    double spread[k_slots + 1];
-    std::uint8_t k[k_slots + 1];
   };
 
   // Millions of entries: left uninitialised (every one is written before it is read), so the
@@ -259,19 +257,12 @@ private:
   // choices recorded.
   void finish_row(int e, const Partial& p, double* cost) {
     const int m = p.node;
-    const double area = ch07::half_area_of(tree_.box(e));
-    const double leaf = leaf_cost(e);
-    const double interior = area * k_node_cost + p.spread[width_];
+    CostChoices choices;
+    ch09::finish_row(ch07::half_area_of(tree_.box(e)), leaf_cost(e),
+                     tree_.count(e) <= k_max_leaf_triangles, p, width_, cost, choices);
     node_split_[m] = p.k[width_];
-    as_leaf_[m] = leaf <= interior;
-    std::uint8_t* split = &split_[std::size_t(m) * width_];
-    cost[0] = std::min(leaf, interior);
-    split[0] = 0;
-    for (int i = 2; i <= width_; ++i) {
-      const bool fewer = cost[i - 2] <= p.spread[i]; // on a tie, fewer children
-      cost[i - 1] = fewer ? cost[i - 2] : p.spread[i];
-      split[i - 1] = static_cast<std::uint8_t>(fewer ? 0 : p.k[i]);
-    }
+    as_leaf_[m] = choices.as_leaf;
+    std::copy_n(choices.split, width_, &split_[std::size_t(m) * width_]);
   }
 
   // Node n's visit: its children's rows (a binary leaf's repeated, an interior child's
@@ -287,19 +278,7 @@ private:
     }
     Partial p;
     p.node = n;
-    for (int j = 2; j <= width_; ++j) {
-      double best = k_inf;
-      int best_k = 0;
-      for (int k = 1; k < j; ++k) {
-        const double c = rows[0][k - 1] + rows[1][j - k - 1];
-        if (c < best) {
-          best = c;
-          best_k = k;
-        }
-      }
-      p.spread[j] = best;
-      p.k[j] = static_cast<std::uint8_t>(best_k);
-    }
+    spread_rows(rows[0], rows[1], width_, p);
     return p;
   }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bvh.h"
+#include "collapse_cost.h"
 #include "mesh_gen.h"
 #include "rt/launch.h"
 #include "wide_bvh.h"
@@ -20,11 +21,6 @@ namespace rt::ch09 {
 enum class Collapse { sah, greedy };
 
 const char* to_string(Collapse collapse);
-
-// The cost model of the SAH collapse, the paper's constants: a node visit costs 1, a triangle
-// test 0.3, each weighted by the chance that a ray through the root enters the box.
-inline constexpr double k_node_cost = 1.0;
-inline constexpr double k_triangle_cost = 0.3;
 
 // A wide node with its children in their octant slots, before it is stored in a layout.
 struct SlotNode {

@@ -121,13 +121,15 @@ ReportRow build_row(const std::string& scene, Builder builder, const BuiltTree& 
           s.build_ms > 0 ? triangles / (s.build_ms * 1e3) : 0.0,
           group_digits(s.nodes) + " nodes, depth " + std::to_string(s.depth) + ", SAH cost " +
               format_fixed(s.sah_cost, 1) + "; collapse to 4-wide " +
-              format_fixed(tree.collapse_ms, 2) + " ms (Mtriangles/s)" +
+              format_fixed(tree.collapse_ms, 2) + " ms (depth rule " +
+              format_fixed(tree.collapse_depth_ms, 2) + " ms) (Mtriangles/s)" +
               (tree.note.empty() ? "" : "; " + tree.note),
           {{"triangles", triangles},
            {"nodes", double(s.nodes)},
            {"depth", double(s.depth)},
            {"sah_cost", s.sah_cost},
-           {"collapse_ms", tree.collapse_ms}}};
+           {"collapse_ms", tree.collapse_ms},
+           {"collapse_depth_ms", tree.collapse_depth_ms}}};
 }
 
 ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build) {
@@ -143,6 +145,9 @@ ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_bu
       });
       parallel.stats.build_ms = collapse_ms;
       tree.collapse_ms = parallel.stats.build_ms;
+      tree.collapse_depth_ms = median_build_ms(scene.backend, [&] {
+        return collapse_to_wide4(scene.backend, tree.bvh, CollapseRule::depth).stats.build_ms;
+      });
       parallel.stats.build_ms += tree.bvh.stats.build_ms;
       if (on_build) on_build(scene.name, builder, tree);
       const ch09::WideLayout layout = ch09::collapse(tree.bvh, 4, ch09::Collapse::sah);
@@ -162,15 +167,16 @@ ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_bu
 
 std::string build_table(const std::vector<std::pair<Builder, BuiltTree>>& builds) {
   std::ostringstream out;
-  out << "\n| builder | built on | build ms | + 4-wide collapse ms | SAH cost | depth | nodes "
-         "|\n"
+  out << "\n| builder | built on | build ms | + 4-wide collapse ms: sah / depth rule | SAH "
+         "cost "
+         "| depth | nodes |\n"
       << "|---|---|---:|---:|---:|---:|---:|\n";
   for (const auto& [builder, tree] : builds) {
     const ch07::BuildStats& s = tree.bvh.stats;
     out << "| " << to_string(builder) << " | " << to_string(tree.backend) << " | "
-        << format_fixed(s.build_ms, 2) << " | " << format_fixed(tree.collapse_ms, 2) << " | "
-        << format_fixed(s.sah_cost, 1) << " | " << s.depth << " | " << group_digits(s.nodes)
-        << " |\n";
+        << format_fixed(s.build_ms, 2) << " | " << format_fixed(tree.collapse_ms, 2) << " / "
+        << format_fixed(tree.collapse_depth_ms, 2) << " | " << format_fixed(s.sah_cost, 1)
+        << " | " << s.depth << " | " << group_digits(s.nodes) << " |\n";
   }
   return out.str();
 }

@@ -46,6 +46,7 @@ struct BuiltTree {
   Backend backend = Backend::cpu; // where it was built: chapter 07's build is always the CPU
   std::string note;               // what the build had to do differently, if anything
   double collapse_ms = 0.0; // the parallel collapse to 4-wide (wide_collapse.h), on `backend`
+  double collapse_depth_ms = 0.0; // the same by the depth rule, which looks at no cost
 };
 
 // Builds `mesh`'s tree with `builder`, the parallel ones on `backend` (resolved). The build
@@ -61,12 +62,13 @@ using BuildSink =
 
 // For each scene, the tree of each of `builders` as three tracers: "<builder>" (chapter 07's
 // traversal), "<builder> 4-wide" (chapter 09's SAH collapse to four children, on the CPU) and
-// "<builder> 4-wide (parallel collapse)" (this chapter's collapse, on the scene's backend; its
-// time is BuiltTree::collapse_ms). Their hits match chapter 07's up to exact ties.
+// "<builder> 4-wide (parallel collapse)" (this chapter's collapse by the sah rule, on the
+// scene's backend: chapter 09's tree, made in parallel; its time is BuiltTree::collapse_ms,
+// and the depth rule's collapse_depth_ms). Their hits match chapter 07's up to exact ties.
 ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build = {});
 
-// The builds as a Markdown table: builder, where, ms, the parallel collapse's ms, SAH cost,
-// depth, nodes.
+// The builds as a Markdown table: builder, where, ms, the parallel collapse's ms (sah rule,
+// depth rule), SAH cost, depth, nodes.
 std::string build_table(const std::vector<std::pair<Builder, BuiltTree>>& builds);
 
 } // namespace rt::ch10

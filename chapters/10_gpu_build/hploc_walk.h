@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "hploc.h"
+#include "refit.h" // load_published
 
 namespace rt::ch10 {
 
@@ -89,9 +90,8 @@ inline void walk_on_cpu(const HplocWalk& walk, int leaf) {
 //                                     exchange the warp makes after it (the warp in step,
 //                                     then a fence)
 
-// Reads of what another thread wrote during the walk, past the GPU's L1 cache, which another
-// multiprocessor's writes do not reach (refit.h's reason): volatile loads go to L2.
-RT_HD inline int load_published(const int* p) { return *static_cast<const volatile int*>(p); }
+// Reads of what another thread wrote during the walk, past the GPU's L1 cache (refit.h's
+// load_published, and a box's the same way).
 RT_HD inline Aabb load_published(const Aabb& box) {
   const volatile float* f = &box.lo.x;
   Aabb out;

@@ -54,7 +54,7 @@ BuildSink keep_builds(Report& report, std::vector<std::pair<Builder, BuiltTree>>
     report.add_row(build_row(scene, builder, tree));
     builds.push_back({builder,
                       {ch07::Bvh{{}, {}, {}, {}, {}, tree.bvh.stats}, tree.backend, tree.note,
-                       tree.collapse_ms}});
+                       tree.collapse_ms, tree.collapse_depth_ms}});
   };
 }
 

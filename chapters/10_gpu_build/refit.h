@@ -32,8 +32,14 @@ RT_HD inline bool second_arrival(unsigned* counter) {
 }
 // [/listing:arrive]
 
-// A child box written by another thread, read past the GPU's L1 cache (which another
-// multiprocessor's writes do not reach): volatile loads go to L2.
+// What another thread wrote and published (second_arrival), read past the GPU's L1 cache,
+// which another multiprocessor's writes do not reach: volatile loads go to L2.
+RT_HD inline int load_published(const int* p) { return *static_cast<const volatile int*>(p); }
+RT_HD inline double load_published(const double* p) {
+  return *static_cast<const volatile double*>(p);
+}
+
+// A child box written by another thread, read past the GPU's L1 cache the same way.
 RT_HD inline Aabb load_child_box(const BvhNode& node, int c) {
   const volatile float* f = &node.box[c].lo.x;
   Aabb box;

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdint>
 #include <cstring>
+#include <limits>
 #include <numeric>
 
 #include <cub/device/device_scan.cuh>
@@ -14,6 +16,7 @@
 #include "build_passes.cuh"
 #include "collapse.h"
 #include "octant_slots.h"
+#include "refit.h" // second_arrival, load_published
 #include "rt/error.h"
 
 namespace rt::ch10 {
@@ -43,6 +46,10 @@ struct CollapseView {
   WideNode<k_width>* out_nodes;
   float2* out_records;
   int* sources; // per record: the binary leaf order's triangle it copies
+  // The sah rule's (CostRows, FindWide):
+  ch09::CostSpread<k_width>* spreads;
+  unsigned* choices; // CostChoices packed (pack_choices)
+  unsigned* arrivals;
 };
 
 // A child of a wide node: a leaf (node -1) of the triangles first .. first + count - 1, or
@@ -56,9 +63,9 @@ struct WideChild {
 // A wide node's children at fixed places: binary child c's at place 2c, or, opened, its two
 // children at places 2c and 2c + 1; `present` has a bit per place that holds one, `slot` the
 // octant slot of each. Fixed places and unrolled loops keep all of it in registers on the GPU.
-struct WideChildren {
-  WideChild child[k_width];
-  int slot[k_width];
+template <int Places = k_width> struct WideChildren {
+  WideChild child[Places];
+  int slot[Places];
   unsigned present = 0;
 };
 
@@ -75,8 +82,8 @@ RT_HD inline WideChild binary_child(const CollapseView& t, const BvhNode& node, 
 
 // The children of the wide node made of binary node i: its binary children, each covering more
 // than three triangles opened into its own two; then the octant slots.
-RT_HD inline WideChildren wide_children(const CollapseView& t, int i) {
-  WideChildren out;
+RT_HD inline WideChildren<> wide_children(const CollapseView& t, int i) {
+  WideChildren<> out;
   const BvhNode node = load_node(&t.nodes[i]);
   RT_UNROLL
   for (int c = 0; c < 2; ++c) {
@@ -107,24 +114,201 @@ RT_HD inline WideChildren wide_children(const CollapseView& t, int i) {
 
 // Calls visit(child, slot, position) for each child in slot order, position counting from 0:
 // every loop unrolled, every index fixed.
-template <class Visit> RT_HD void in_slot_order(const WideChildren& w, Visit&& visit) {
-  int rank[k_width];
+template <int Places, class Visit>
+RT_HD void in_slot_order(const WideChildren<Places>& w, Visit&& visit) {
+  int rank[Places];
   RT_UNROLL
-  for (int c = 0; c < k_width; ++c) {
+  for (int c = 0; c < Places; ++c) {
     rank[c] = 0;
     RT_UNROLL
-    for (int d = 0; d < k_width; ++d)
+    for (int d = 0; d < Places; ++d)
       rank[c] += (w.present >> d & 1u) != 0 && w.slot[d] < w.slot[c];
   }
   RT_UNROLL
   for (int p = 0; p < k_width; ++p) RT_UNROLL
-  for (int c = 0; c < k_width; ++c)
+  for (int c = 0; c < Places; ++c)
     if ((w.present >> c & 1u) != 0 && rank[c] == p) visit(w.child[c], w.slot[c], p);
 }
 
-// Pass 1: each node's triangle range (its leftmost and rightmost leaves, walked down to) and
-// whether it is a wide node: the root, or covering more than three triangles at even depth
-// (walked up to the root).
+// [listing:sah_rows]
+// The sah rule. A node's choices in one word: bits 2(i - 2) and up, the left share of i
+// children (i = 2..4; 0 where fewer cost no more); bits 6-7 the left share of a wide node made
+// of it; bit 8, one child means a leaf.
+RT_HD inline unsigned pack_choices(const ch09::CostChoices& c, int node_split) {
+  unsigned word = unsigned(node_split) << 6 | unsigned(c.as_leaf) << 8;
+  RT_UNROLL
+  for (int i = 2; i <= k_width; ++i) word |= unsigned(c.split[i - 1]) << (2 * (i - 2));
+  return word;
+}
+RT_HD inline int split_of(unsigned word, int i) { return int(word >> (2 * (i - 2)) & 3u); }
+RT_HD inline int node_split_of(unsigned word) { return int(word >> 6 & 3u); }
+RT_HD inline bool as_leaf_of(unsigned word) { return (word >> 8 & 1u) != 0; }
+
+// Pass 1 (sah): every node's triangle range and spread, from the bottom up as the refit goes
+// (refit.h): a thread per node arrives once for each child that is a leaf (or the empty side
+// of a one-triangle tree), and the thread that completes a node works it out and climbs. A
+// node finishes its interior children's rows, and so records their choices, as chapter 09's
+// visit does; its own are finished by its parent, the root's by itself (always a wide node).
+// Every operation is chapter 09's, in its order: the same choices on every backend.
+struct CostRows {
+  CollapseView t;
+
+  RT_HD void finish(int x) const {
+    const BvhNode node = load_node(&t.nodes[x]);
+    double rows[2][k_width];
+    int first[2], end[2];
+    RT_UNROLL
+    for (int c = 0; c < 2; ++c) {
+      const double area = ch07::half_area_of(node.box[c]);
+      if (node.is_leaf(c) || node.first[c] < 0) { // a binary leaf, or no child at all
+        const int count = node.is_leaf(c) ? node.count[c] : 0;
+        const double cost = count > 0 ? area * count * ch09::k_triangle_cost : 0.0;
+        RT_UNROLL
+        for (int i = 0; i < k_width; ++i) rows[c][i] = cost;
+        first[c] = node.first[c];
+        end[c] = node.first[c] + count;
+        continue;
+      }
+      const int m = node.first[c];
+      ch09::CostSpread<k_width> p;
+      RT_UNROLL
+      for (int j = 2; j <= k_width; ++j) {
+        p.spread[j] = load_published(&t.spreads[m].spread[j]);
+        p.k[j] = static_cast<std::uint8_t>(
+            *static_cast<const volatile std::uint8_t*>(&t.spreads[m].k[j]));
+      }
+      first[c] = load_published(&t.range_first[m]);
+      end[c] = load_published(&t.range_end[m]);
+      const int count = end[c] - first[c];
+      const bool can_be_leaf = count <= t.leaf_size;
+      ch09::CostChoices choices;
+      ch09::finish_row(area,
+                       can_be_leaf ? area * count * ch09::k_triangle_cost
+                                   : std::numeric_limits<double>::infinity(),
+                       can_be_leaf, p, k_width, rows[c], choices);
+      t.choices[m] = pack_choices(choices, p.k[k_width]);
+    }
+    t.range_first[x] = first[0];
+    t.range_end[x] = node.first[1] < 0 && !node.is_leaf(1) ? end[0] : end[1];
+    ch09::CostSpread<k_width> mine;
+    ch09::spread_rows(rows[0], rows[1], k_width, mine);
+    t.spreads[x] = mine;
+    if (x == 0) t.choices[0] = pack_choices(ch09::CostChoices{}, mine.k[k_width]);
+  }
+
+  RT_HD void operator()(int i) const {
+    const BvhNode node = t.nodes[i];
+    for (int c = 0; c < 2; ++c) {
+      if (!node.is_leaf(c) && node.first[c] >= 0) continue;
+      if (!second_arrival(&t.arrivals[i])) continue;
+      for (int x = i;;) { // this thread completed node x
+        finish(x);
+        if (t.parents[x] < 0) break;
+        x = t.parents[x] >> 1;
+        if (!second_arrival(&t.arrivals[x])) break;
+      }
+    }
+  }
+};
+
+// Pass 2 (sah): whether node i is a wide node, from the root down along its path (read first
+// as the bits of its ancestors' child slots). At a wide node, its children get the shares of
+// its left and right side; a node given s children takes fewer while fewer cost no more; one
+// child is a leaf (and nothing below it is a wide node) or a wide node; more are shared again
+// between its two sides. Chapter 09's collect, followed down one path.
+struct FindWide {
+  CollapseView t;
+  RT_HD void operator()(int i) const {
+    std::uint64_t path = 0; // a tree passing chapter 07's checker is at most 64 deep
+    int depth = 0;
+    for (int x = i; x != 0; x = t.parents[x] >> 1, ++depth)
+      path = path << 1 | unsigned(t.parents[x] & 1);
+    int x = 0, share = 0; // share 0: x is a wide node
+    for (int d = 0; d < depth; ++d, path >>= 1) {
+      const int c = int(path & 1u);
+      const unsigned word = t.choices[x];
+      const int total = share == 0 ? k_width : share;
+      const int left = share == 0 ? node_split_of(word) : split_of(word, share);
+      int s = c == 0 ? left : total - left;
+      x = t.nodes[x].first[c];
+      const unsigned below = t.choices[x];
+      while (s > 1 && split_of(below, s) == 0) --s;
+      if (s == 1 && as_leaf_of(below)) {
+        t.is_wide[i] = 0;
+        return;
+      }
+      share = s == 1 ? 0 : s;
+    }
+    t.is_wide[i] = share == 0;
+  }
+};
+
+// A wide node's children under the sah rule: chapter 09's collect, unrolled over fixed
+// places so that everything stays in registers (an array indexed at run time would go to
+// local memory, "The collapse and local memory"). Shares of four children halve at most three
+// times (3 = 1 + 2, 2 = 1 + 1), so the children of a side at place p, opened, go to places p
+// and p + half: eight places for at most four children, in collect's order.
+RT_HD inline WideChildren<8> sah_children(const CollapseView& t, int i) {
+  constexpr int k_places = 8;
+  int edge[k_places], share[k_places]; // share 0: no child at that place
+  RT_UNROLL
+  for (int p = 0; p < k_places; ++p) edge[p] = share[p] = 0;
+  const int root_split = node_split_of(t.choices[i]);
+  edge[0] = 2 * i;
+  share[0] = root_split;
+  edge[4] = 2 * i + 1;
+  share[4] = k_width - root_split;
+  unsigned word[k_places] = {};
+  RT_UNROLL
+  for (int level = 0; level < 3; ++level) { // sides at places 0, 4; then 0, 2, 4, 6; then all
+    const int step = 4 >> level;
+    RT_UNROLL
+    for (int p = 0; p < k_places; p += step) {
+      if (share[p] == 0) continue;
+      const BvhNode& parent = t.nodes[edge[p] >> 1];
+      const int c = edge[p] & 1, m = parent.first[c];
+      if (parent.is_leaf(c) || m < 0) continue;
+      word[p] = t.choices[m];
+      int s = share[p];
+      while (s > 1 && split_of(word[p], s) == 0) --s;
+      share[p] = s;
+      if (s == 1 || level == 2) continue; // one child: kept whole (level 2 has only those)
+      const int k = split_of(word[p], s);
+      edge[p] = 2 * m;
+      share[p] = k;
+      edge[p + step / 2] = 2 * m + 1;
+      share[p + step / 2] = s - k;
+    }
+  }
+  WideChildren<8> out;
+  const BvhNode node = load_node(&t.nodes[i]);
+  Aabb boxes[k_places];
+  RT_UNROLL
+  for (int p = 0; p < k_places; ++p) {
+    if (share[p] == 0) continue;
+    const BvhNode& parent = t.nodes[edge[p] >> 1];
+    const int c = edge[p] & 1, m = parent.first[c];
+    if (!parent.is_leaf(c) && m < 0) continue; // the one-triangle tree's empty side
+    WideChild child{parent.box[c], -1, m, parent.count[c], edge[p]};
+    if (!parent.is_leaf(c)) {
+      child.node = as_leaf_of(word[p]) ? -1 : m;
+      child.first = t.range_first[m];
+      child.count = t.range_end[m] - child.first;
+    }
+    out.child[p] = child;
+    out.present |= 1u << p;
+    boxes[p] = child.box;
+  }
+  Aabb box = node.box[0];
+  box.grow(node.box[1]);
+  ch09::assign_slots(box, boxes, out.present, out.slot);
+  return out;
+}
+// [/listing:sah_rows]
+
+// Passes 1 and 2 (depth): each node's triangle range (its leftmost and rightmost leaves, walked
+// down to) and whether it is a wide node: the root, or covering more than three triangles at
+// even depth (walked up to the root).
 struct MeasureNodes {
   CollapseView t;
   RT_HD void operator()(int i) const {
@@ -144,10 +328,11 @@ struct MeasureNodes {
 };
 
 // [listing:wide_order]
-// Pass 2: each wide node's children in slot order, kept, and its interior children and leaf
+// Pass 3: each wide node's children in slot order, kept, and its interior children and leaf
 // triangles counted for the scans.
 struct CountChildren {
   CollapseView t;
+  bool sah;
   RT_HD void operator()(int i) const {
     int interior = 0, triangles = 0;
     if (t.is_wide[i]) {
@@ -155,7 +340,7 @@ struct CountChildren {
       RT_UNROLL
       for (int p = 0; p < k_width; ++p)
         order.from[p] = order.target[p] = order.count[p] = order.slot[p] = -1;
-      in_slot_order(wide_children(t, i), [&](const WideChild& child, int slot, int p) {
+      const auto keep = [&](const WideChild& child, int slot, int p) {
         const bool inner = child.node >= 0;
         order.from[p] = child.from;
         order.target[p] = inner ? child.node : child.first;
@@ -163,7 +348,11 @@ struct CountChildren {
         order.slot[p] = slot;
         interior += inner;
         triangles += inner ? 0 : child.count;
-      });
+      };
+      if (sah)
+        in_slot_order(sah_children(t, i), keep);
+      else
+        in_slot_order(wide_children(t, i), keep);
       t.orders[i] = order;
     }
     t.interior_counts[i] = interior;
@@ -172,7 +361,7 @@ struct CountChildren {
 };
 // [/listing:wide_order]
 
-// Pass 3: each wide node numbers its interior children, in slot order, from its child_base.
+// Pass 4: each wide node numbers its interior children, in slot order, from its child_base.
 struct NumberChildren {
   CollapseView t;
   RT_HD void operator()(int i) const {
@@ -186,8 +375,8 @@ struct NumberChildren {
   }
 };
 
-// Pass 4: each wide node written at its number, and for each of its leaves' triangles, from
-// its triangle_base, the place of the triangle to copy there; pass 5 copies them, a thread per
+// Pass 5: each wide node written at its number, and for each of its leaves' triangles, from
+// its triangle_base, the place of the triangle to copy there; pass 6 copies them, a thread per
 // record, where a thread of this pass would copy up to twelve 40-byte records one after
 // another while the three threads in four that hold no wide node wait.
 struct WriteWideNodes {
@@ -220,7 +409,7 @@ struct WriteWideNodes {
   }
 };
 
-// Pass 5: a thread per record, its triangle copied from where pass 4 said. Neighbouring
+// Pass 6: a thread per record, its triangle copied from where pass 5 said. Neighbouring
 // records come from neighbouring triangles (both orders are depth first), so the reads as well
 // as the writes of a warp fall on few cache lines.
 struct GatherRecords {
@@ -276,9 +465,10 @@ TreeArrays upload_tree(Backend backend, const ch07::Bvh& bvh) {
   return tree;
 }
 
-WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size)
+WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size,
+                           CollapseRule rule)
     : backend_(backend), triangle_count_(triangle_count), leaf_size_(leaf_size),
-      capacity_(std::max(1, triangle_count - 1)), range_first_(backend, capacity_),
+      capacity_(std::max(1, triangle_count - 1)), rule_(rule), range_first_(backend, capacity_),
       range_end_(backend, capacity_), is_wide_(backend, capacity_),
       interior_counts_(backend, capacity_), leaf_counts_(backend, capacity_),
       interior_offsets_(backend, capacity_), triangle_offsets_(backend, capacity_),
@@ -286,7 +476,10 @@ WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size)
       nodes_(backend, capacity_),
       records_(backend, std::size_t(5) * std::max(1, triangle_count)),
       sources_(backend, std::max(1, triangle_count)),
-      scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0) {
+      scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0),
+      spreads_(backend, rule == CollapseRule::sah ? capacity_ : 0),
+      choices_(backend, rule == CollapseRule::sah ? capacity_ : 0),
+      arrivals_(backend, rule == CollapseRule::sah ? capacity_ : 0) {
   if (leaf_size < 1 || leaf_size > k_wide_leaf_triangles)
     throw UsageError("a wide leaf takes 1 to " + std::to_string(k_wide_leaf_triangles) +
                      " triangles, not " + std::to_string(leaf_size));
@@ -321,9 +514,19 @@ void WideCollapse::run(const BvhNode* nodes, const int* parents, int node_count,
                        orders_.data(),
                        nodes_.data(),
                        records_.data(),
-                       sources_.data()};
-  for_each_index(backend_, n, MeasureNodes{t});
-  for_each_index(backend_, n, CountChildren{t});
+                       sources_.data(),
+                       spreads_.data(),
+                       choices_.data(),
+                       arrivals_.data()};
+  const bool sah = rule_ == CollapseRule::sah;
+  if (sah) {
+    arrivals_.fill_bytes(0);
+    for_each_index(backend_, n, CostRows{t});
+    for_each_index(backend_, n, FindWide{t});
+  } else {
+    for_each_index(backend_, n, MeasureNodes{t});
+  }
+  for_each_index(backend_, n, CountChildren{t, sah});
   exclusive_scan(backend_, interior_counts_, interior_offsets_, scratch_, n);
   exclusive_scan(backend_, leaf_counts_, triangle_offsets_, scratch_, n);
   for_each_index(backend_, n, NumberChildren{t});
@@ -348,7 +551,10 @@ ch09::Wide4PackedBvh WideCollapse::to_host() const {
   return tree;
 }
 
-ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary) {
+const char* to_string(CollapseRule rule) { return rule == CollapseRule::sah ? "sah" : "depth"; }
+
+ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary,
+                                       CollapseRule rule) {
   for (const BvhNode& node : binary.nodes)
     for (int c = 0; c < 2; ++c)
       if (node.count[c] > k_wide_leaf_triangles)
@@ -357,7 +563,8 @@ ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary)
                          std::to_string(k_wide_leaf_triangles));
   if (binary.nodes.empty()) return {};
   const TreeArrays arrays = upload_tree(backend, binary);
-  WideCollapse collapse(backend, static_cast<int>(binary.triangles.size()));
+  WideCollapse collapse(backend, static_cast<int>(binary.triangles.size()),
+                        k_wide_leaf_triangles, rule);
   BackendStopwatch clock(backend); // build time: events around the kernels, or wall time
   collapse.run(arrays);
   const double ms = clock.milliseconds();

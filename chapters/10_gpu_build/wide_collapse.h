@@ -3,6 +3,7 @@
 // the fast way without a trip to the host. Both backends give the same wide tree bit for bit.
 #pragma once
 
+#include "collapse_cost.h"
 #include "rt/backend.h"
 #include "rt/backend_array.h"
 #include "tree_arrays.h"
@@ -10,11 +11,19 @@
 
 namespace rt::ch10 {
 
-// Which binary nodes become what, decided by each node alone: a binary node covering at most
-// three triangles is a leaf of its wide parent; an interior one covering more, at even depth,
-// is a wide node (the root always is). A wide node's children are its two binary children,
-// each one covering more than three triangles replaced by its own two: at most four children.
 inline constexpr int k_wide_leaf_triangles = ch09::k_max_leaf_triangles;
+
+// Which binary nodes become what.
+// - sah: chapter 09's SAH collapse, its choices made in parallel: every node's costs from the
+//   bottom up (as the refit climbs), then each node finds from the root down whether it is a
+//   wide node. The same wide tree as chapter 09's (node for node; numbered otherwise).
+// - depth: decided by each node alone, looking at no cost: a binary node covering at most
+//   three triangles is a leaf of its wide parent; an interior one covering more, at even
+//   depth, is a wide node (the root always is). A wide node's children are its two binary
+//   children, each one covering more than three triangles replaced by its own two.
+enum class CollapseRule { sah, depth };
+
+const char* to_string(CollapseRule rule);
 
 // [listing:wide_order_record]
 // A wide node's children in slot order, as the collapse's second pass works them out from the
@@ -36,7 +45,8 @@ public:
   // `leaf_size`: the most triangles a wide leaf takes (1 to 3); binary subtrees of more are
   // opened. Chapter 13 collapses a tree over instance boxes with leaves of one, each child box
   // then the box of one instance.
-  WideCollapse(Backend backend, int triangle_count, int leaf_size = ch09::k_max_leaf_triangles);
+  WideCollapse(Backend backend, int triangle_count, int leaf_size = ch09::k_max_leaf_triangles,
+               CollapseRule rule = CollapseRule::sah);
   // `binary`: this chapter's tree of triangle_count triangles, leaves of one to three.
   void run(const TreeArrays& binary);
   // The same from a tree's arrays (backend pointers): node_count nodes, their parent links, the
@@ -53,6 +63,7 @@ public:
 private:
   Backend backend_;
   int triangle_count_, leaf_size_, capacity_;
+  CollapseRule rule_;
   BackendArray<int> range_first_, range_end_, is_wide_, interior_counts_, leaf_counts_,
       interior_offsets_, triangle_offsets_, wide_index_, wide_total_;
   BackendArray<WideOrder> orders_; // 64 bytes per binary node, set for the wide ones
@@ -60,12 +71,17 @@ private:
   BackendArray<float2> records_;
   BackendArray<int> sources_; // per record: its triangle's place in the binary leaf order
   BackendArray<unsigned char> scratch_;
+  // The sah rule's, per binary node: its spread (the costs its parent finishes), its choices
+  // (packed), its arrival counter.
+  BackendArray<ch09::CostSpread<4>> spreads_;
+  BackendArray<unsigned> choices_, arrivals_;
 };
 
 // `binary` (it passes chapter 07's checker; leaves of at most three triangles) collapsed on the
 // backend; stats.build_ms is the collapse's time, measured as a build's (rt::BackendStopwatch).
 // Throws InputError for a larger leaf.
-ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary);
+ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary,
+                                       CollapseRule rule = CollapseRule::sah);
 
 // A wide tree's report figures, computed from the tree itself as chapter 09's collapse
 // computes them (its cost model, over the root's area); build_ms is kept.

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "07_bvh/bvh_cases.h"
 #include "mesh_gen.h"
 #include "traverse.h"
 #include "triangles.h"
@@ -21,6 +22,14 @@ inline void add_point_triangle(Mesh& mesh, Vec3f p) {
   const int base = static_cast<int>(mesh.vertices.size());
   mesh.vertices.insert(mesh.vertices.end(), {p, p, p});
   mesh.triangles.push_back({base, base + 1, base + 2});
+}
+
+// A soup spread over almost the whole float range: float areas overflow to infinity, and a
+// flat box's inf * 0 is NaN.
+inline Mesh huge_soup() {
+  Mesh mesh = rt::testing::random_soup(2000, 61, {{}, 1e38f, 1e35f, 1e37f});
+  for (int k = 0; k < 20; ++k) add_point_triangle(mesh, {float(k) * 1e37f, 0.0f, 0.0f});
+  return mesh;
 }
 
 // `count` copies of one small triangle: every centroid and every code equal.

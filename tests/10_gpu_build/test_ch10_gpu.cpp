@@ -119,16 +119,18 @@ TEST_CASE("the GPU's collapse to the 4-wide tree is the CPU's, bit for bit", "[c
   RT_REQUIRE_GPU();
   const std::vector<Mesh> meshes = {rt::testing::mixed_scene(20000, 73),
                                     identical_triangles(3000), power_of_two_chain(4096),
-                                    rt::testing::single_triangle()};
+                                    rt::testing::single_triangle(), huge_soup()};
   for (const Mesh& mesh : meshes) {
-    for (const Builder builder : {Builder::lbvh, Builder::ploc}) {
-      CAPTURE(mesh.triangles.size(), to_string(builder));
+    for (const Builder builder : {Builder::lbvh, Builder::ploc, Builder::hploc}) {
       const ch07::Bvh binary = build_tree(builder, Backend::cpu, mesh).bvh;
-      const ch09::Wide4PackedBvh gpu = collapse_to_wide4(Backend::gpu, binary);
-      const ch09::Wide4PackedBvh cpu = collapse_to_wide4(Backend::cpu, binary);
-      CHECK(ch09::check_wide_tree(gpu, mesh).empty());
-      CHECK(rt::testing::same_bits(gpu.nodes, cpu.nodes));
-      CHECK(rt::testing::same_bits(gpu.triangles, cpu.triangles));
+      for (const CollapseRule rule : {CollapseRule::sah, CollapseRule::depth}) {
+        CAPTURE(mesh.triangles.size(), to_string(builder), to_string(rule));
+        const ch09::Wide4PackedBvh gpu = collapse_to_wide4(Backend::gpu, binary, rule);
+        const ch09::Wide4PackedBvh cpu = collapse_to_wide4(Backend::cpu, binary, rule);
+        CHECK(ch09::check_wide_tree(gpu, mesh).empty());
+        CHECK(rt::testing::same_bits(gpu.nodes, cpu.nodes));
+        CHECK(rt::testing::same_bits(gpu.triangles, cpu.triangles));
+      }
     }
   }
 }

@@ -158,14 +158,6 @@ bool same_tree(const ch07::Bvh& a, const ch07::Bvh& b) {
          rt::testing::same_bits(a.triangles, b.triangles);
 }
 
-// A soup spread over almost the whole float range: areas overflow to infinity, and a flat
-// box's inf * 0 is NaN.
-Mesh huge_soup() {
-  Mesh mesh = rt::testing::random_soup(2000, 61, {{}, 1e38f, 1e35f, 1e37f});
-  for (int k = 0; k < 20; ++k) add_point_triangle(mesh, {float(k) * 1e37f, 0.0f, 0.0f});
-  return mesh;
-}
-
 // The 32 lanes of a warp as fibers on the calling thread: each runs until it calls one of
 // the warp's collective operations, and when every lane has, the operation's results are
 // handed out and the lanes go on. So walk_on_warp, the GPU's code, runs here as on a warp, in

@@ -55,7 +55,8 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
                  contains(std::string("cornell_room, ") + type + ", " + tree + " "));
   CHECK_THAT(
       run.output,
-      contains("| builder | built on | build ms | + 4-wide collapse ms | SAH cost | depth |"));
+      contains("| builder | built on | build ms | + 4-wide collapse ms: sah / depth rule | SAH "
+               "cost | depth |"));
   CHECK_THAT(run.output, !contains("disagree"));
   CHECK(std::filesystem::file_size(image) > 100);
 
@@ -69,6 +70,7 @@ TEST_CASE("program: the report builds with every builder and measures each tree"
       CHECK(row.at("metrics").at("sah_cost").get<double>() > 0.0);
       CHECK(row.at("metrics").at("depth").get<double>() <= 63.0);
       CHECK(row.at("metrics").at("collapse_ms").get<double>() > 0.0);
+      CHECK(row.at("metrics").at("collapse_depth_ms").get<double>() > 0.0);
       ++builds;
       continue;
     }

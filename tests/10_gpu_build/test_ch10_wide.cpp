@@ -1,13 +1,18 @@
 // Chapter 10 tests of the parallel collapse on CPU threads (the RT_HD passes the GPU runs too):
 // the wide trees of LBVH and PLOC pass chapter 09's checker and give brute force's hits,
 // closest and any; meshes of one to four triangles and of equal centroids collapse; leaves of
-// more than three triangles are refused.
+// more than three triangles are refused; the sah rule makes chapter 09's SAH collapse's tree,
+// node for node, and never costs more than the depth rule.
+#include <bit>
+#include <cstring>
+#include <utility>
 #include <vector>
 
 #include "rt_catch.h"
 
 #include "07_bvh/bvh_cases.h"
 #include "build_cases.h"
+#include "builders.h"
 #include "bvh_build.h"
 #include "collapse.h"
 #include "gpu_build.h"
@@ -39,7 +44,86 @@ int wide_mismatches(const ch09::Wide4PackedBvh& tree, const Mesh& mesh,
   return mismatches;
 }
 
+// Whether node x of `a` and node y of `b` head the same tree, however the two layouts number
+// their nodes and records: the same boxes, child kinds and slots, leaf triangles (their
+// records, bit for bit) and interior children, recursively. Counts the nodes compared.
+bool same_subtree(const ch09::Wide4PackedBvh& a, int x, const ch09::Wide4PackedBvh& b, int y,
+                  int& compared) {
+  ++compared;
+  const ch09::WideNode<4>& p = a.nodes[x];
+  const ch09::WideNode<4>& q = b.nodes[y];
+  for (int c = 0; c < 4; ++c) {
+    const float pa[6] = {p.lo_x[c], p.lo_y[c], p.lo_z[c], p.hi_x[c], p.hi_y[c], p.hi_z[c]};
+    const float qa[6] = {q.lo_x[c], q.lo_y[c], q.lo_z[c], q.hi_x[c], q.hi_y[c], q.hi_z[c]};
+    if (std::memcmp(pa, qa, sizeof pa) != 0 || p.meta[c] != q.meta[c]) return false;
+  }
+  if (p.imask != q.imask) return false;
+  const int k = ch09::PackedTriangles::k_records;
+  int interior = 0;
+  for (int c = 0; c < 4 && p.meta[c] != 0; ++c) {
+    if (ch09::is_interior_meta(p.meta[c])) {
+      if (!same_subtree(a, p.child_base + interior, b, q.child_base + interior, compared))
+        return false;
+      ++interior;
+      continue;
+    }
+    const int offset = p.meta[c] & 31, count = std::popcount(unsigned(p.meta[c]) >> 5);
+    const auto ra = a.triangles.begin() + std::ptrdiff_t(k) * (p.triangle_base + offset);
+    const auto rb = b.triangles.begin() + std::ptrdiff_t(k) * (q.triangle_base + offset);
+    if (std::memcmp(&*ra, &*rb, sizeof(float2) * k * count) != 0) return false;
+  }
+  return true;
+}
+
 } // namespace
+
+TEST_CASE("the parallel collapse's sah rule makes chapter 09's SAH collapse's tree, node for "
+          "node",
+          "[ch10][wide-sah]") {
+  const std::vector<std::pair<const char*, Mesh>> meshes = {
+      {"mixed scene", rt::testing::mixed_scene(6000, 81)},
+      {"soup at 1e5", rt::testing::random_soup(4000, 83, Vec3f{1e5f, 0, 0})},
+      {"huge coordinates", huge_soup()},
+      {"identical", identical_triangles(500)},
+      {"power-of-two chain", power_of_two_chain(64)},
+      {"one triangle", rt::testing::single_triangle()},
+      {"two triangles", rt::testing::random_soup(2, 85)},
+      {"five triangles", rt::testing::random_soup(5, 87)}};
+  for (const auto& [name, mesh] : meshes) {
+    for (const Builder builder : {Builder::cpu_sah, Builder::lbvh, Builder::hploc}) {
+      CAPTURE(name, to_string(builder));
+      const ch07::Bvh binary = build_tree(builder, Backend::cpu, mesh).bvh;
+      const ch09::Wide4PackedBvh parallel =
+          collapse_to_wide4(Backend::cpu, binary, CollapseRule::sah);
+      const ch09::Wide4PackedBvh serial = ch09::pack_wide<4, ch09::PackedTriangles>(
+          ch09::collapse(binary, 4, ch09::Collapse::sah));
+      REQUIRE(parallel.nodes.size() == serial.nodes.size());
+      CHECK(ch09::check_wide_tree(parallel, mesh).empty());
+      int compared = 0;
+      CHECK(same_subtree(parallel, 0, serial, 0, compared));
+      CHECK(compared == static_cast<int>(serial.nodes.size()));
+    }
+  }
+}
+
+TEST_CASE("the sah rule's trees cost no more than the depth rule's, and trace the same hits",
+          "[ch10][wide-sah]") {
+  const Mesh mesh = rt::testing::mixed_scene(8000, 89);
+  const auto rays =
+      rt::testing::random_rays(1500, 91, ch07::bounds_of(mesh.triangle(0)).lo, 60.0f);
+  for (const Builder builder : {Builder::lbvh, Builder::ploc, Builder::hploc}) {
+    CAPTURE(to_string(builder));
+    const ch07::Bvh binary = build_tree(builder, Backend::cpu, mesh).bvh;
+    const ch09::Wide4PackedBvh sah = collapse_to_wide4(Backend::cpu, binary, CollapseRule::sah);
+    const ch09::Wide4PackedBvh depth =
+        collapse_to_wide4(Backend::cpu, binary, CollapseRule::depth);
+    CHECK(wide_mismatches(sah, mesh, rays) == 0);
+    // The depth rule's tree is one of those the sah rule chooses among (children made of
+    // binary nodes below, leaves of at most three): the least cost is at most its cost.
+    CHECK(sah.stats.sah_cost <= depth.stats.sah_cost * (1.0 + 1e-12));
+    CHECK(sah.stats.sah_cost < depth.stats.sah_cost * 0.99); // and here clearly less
+  }
+}
 
 TEST_CASE("the parallel collapse of LBVH and PLOC trees passes chapter 09's checker and "
           "finds brute force's hits",
