@@ -46,9 +46,9 @@ struct CollapseView {
   WideNode<k_width>* out_nodes;
   float2* out_records;
   int* sources; // per record: the binary leaf order's triangle it copies
-  // The sah rule's (CostRows, FindWide):
-  ch09::CostSpread<k_width>* spreads;
-  unsigned* choices; // CostChoices packed (pack_choices)
+  // The sah rule's (CostRows, CountChildren):
+  CostRecord* records; // per node: its spread and triangle range, for its parent
+  unsigned* choices;   // CostChoices packed (pack_choices)
   unsigned* arrivals;
 };
 
@@ -145,11 +145,13 @@ RT_HD inline int node_split_of(unsigned word) { return int(word >> 6 & 3u); }
 RT_HD inline bool as_leaf_of(unsigned word) { return (word >> 8 & 1u) != 0; }
 
 // Pass 1 (sah): every node's triangle range and spread, from the bottom up as the refit goes
-// (refit.h): a thread per node arrives once for each child that is a leaf (or the empty side
-// of a one-triangle tree), and the thread that completes a node works it out and climbs. A
-// node finishes its interior children's rows, and so records their choices, as chapter 09's
-// visit does; its own are finished by its parent, the root's by itself (always a wide node).
-// Every operation is chapter 09's, in its order: the same choices on every backend.
+// (refit.h): a node whose two children are both leaves (or a leaf and the empty side of a
+// one-triangle tree) is worked out at once by its thread; one with a single leaf child by
+// whichever of its thread and its interior child's climb arrives second; one with none by the
+// climb alone. The thread that completes a node climbs on. A node finishes its interior
+// children's rows, and so records their choices, as chapter 09's visit does; its own are
+// finished by its parent, the root's by itself (always a wide node). Every operation is
+// chapter 09's, in its order: the same choices on every backend.
 struct CostRows {
   CollapseView t;
 
@@ -170,15 +172,16 @@ struct CostRows {
         continue;
       }
       const int m = node.first[c];
+      const CostRecord& record = t.records[m];
       ch09::CostSpread<k_width> p;
+      const unsigned shares = unsigned(load_published(&record.k));
       RT_UNROLL
       for (int j = 2; j <= k_width; ++j) {
-        p.spread[j] = load_published(&t.spreads[m].spread[j]);
-        p.k[j] = static_cast<std::uint8_t>(
-            *static_cast<const volatile std::uint8_t*>(&t.spreads[m].k[j]));
+        p.spread[j] = load_published(&record.spread[j - 2]);
+        p.k[j] = static_cast<std::uint8_t>(shares >> (2 * (j - 2)) & 3u);
       }
-      first[c] = load_published(&t.range_first[m]);
-      end[c] = load_published(&t.range_end[m]);
+      first[c] = load_published(&record.first);
+      end[c] = load_published(&record.end);
       const int count = end[c] - first[c];
       const bool can_be_leaf = count <= t.leaf_size;
       ch09::CostChoices choices;
@@ -188,77 +191,78 @@ struct CostRows {
                        can_be_leaf, p, k_width, rows[c], choices);
       t.choices[m] = pack_choices(choices, p.k[k_width]);
     }
-    t.range_first[x] = first[0];
-    t.range_end[x] = node.first[1] < 0 && !node.is_leaf(1) ? end[0] : end[1];
     ch09::CostSpread<k_width> mine;
     ch09::spread_rows(rows[0], rows[1], k_width, mine);
-    t.spreads[x] = mine;
+    CostRecord record;
+    unsigned shares = 0;
+    RT_UNROLL
+    for (int j = 2; j <= k_width; ++j) {
+      record.spread[j - 2] = mine.spread[j];
+      shares |= unsigned(mine.k[j]) << (2 * (j - 2));
+    }
+    record.k = int(shares);
+    record.first = first[0];
+    record.end = node.first[1] < 0 && !node.is_leaf(1) ? end[0] : end[1];
+    t.records[x] = record;
     if (x == 0) t.choices[0] = pack_choices(ch09::CostChoices{}, mine.k[k_width]);
   }
 
   RT_HD void operator()(int i) const {
-    const BvhNode node = t.nodes[i];
-    for (int c = 0; c < 2; ++c) {
-      if (!node.is_leaf(c) && node.first[c] >= 0) continue;
-      if (!second_arrival(&t.arrivals[i])) continue;
-      for (int x = i;;) { // this thread completed node x
-        finish(x);
-        if (t.parents[x] < 0) break;
-        x = t.parents[x] >> 1;
-        if (!second_arrival(&t.arrivals[x])) break;
-      }
+    const BvhNode& node = t.nodes[i];
+    const int ends = (node.count[0] > 0) + (node.count[1] > 0 || node.first[1] < 0);
+    if (ends == 0 || (ends == 1 && !second_arrival(&t.arrivals[i]))) return;
+    for (int x = i;;) { // this thread completed node x
+      finish(x);
+      if (t.parents[x] < 0) break;
+      x = t.parents[x] >> 1;
+      if (!second_arrival(&t.arrivals[x])) break;
     }
   }
 };
 
-// Pass 2 (sah): whether node i is a wide node, from the root down along its path (read first
-// as the bits of its ancestors' child slots). At a wide node, its children get the shares of
-// its left and right side; a node given s children takes fewer while fewer cost no more; one
-// child is a leaf (and nothing below it is a wide node) or a wide node; more are shared again
-// between its two sides. Chapter 09's collect, followed down one path.
-struct FindWide {
-  CollapseView t;
-  RT_HD void operator()(int i) const {
-    std::uint64_t path = 0; // a tree passing chapter 07's checker is at most 64 deep
-    int depth = 0;
-    for (int x = i; x != 0; x = t.parents[x] >> 1, ++depth)
-      path = path << 1 | unsigned(t.parents[x] & 1);
-    int x = 0, share = 0; // share 0: x is a wide node
-    for (int d = 0; d < depth; ++d, path >>= 1) {
-      const int c = int(path & 1u);
-      const unsigned word = t.choices[x];
-      const int total = share == 0 ? k_width : share;
-      const int left = share == 0 ? node_split_of(word) : split_of(word, share);
-      int s = c == 0 ? left : total - left;
-      x = t.nodes[x].first[c];
-      const unsigned below = t.choices[x];
-      while (s > 1 && split_of(below, s) == 0) --s;
-      if (s == 1 && as_leaf_of(below)) {
-        t.is_wide[i] = 0;
-        return;
-      }
-      share = s == 1 ? 0 : s;
-    }
-    t.is_wide[i] = share == 0;
+// Whether node i is a wide node under the sah rule, from the root down along its path (read
+// first as the bits of its ancestors' child slots). At a wide node, its children get the
+// shares of its left and right side; a node given s children takes fewer while fewer cost no
+// more; one child is a leaf (and nothing below it is a wide node) or a wide node; more are
+// shared again between its two sides. Chapter 09's collect, followed down one path.
+RT_HD inline bool find_wide(const CollapseView& t, int i) {
+  std::uint64_t path = 0; // a tree passing chapter 07's checker is at most 64 deep
+  int depth = 0;
+  for (int x = i; x != 0; x = t.parents[x] >> 1, ++depth)
+    path = path << 1 | unsigned(t.parents[x] & 1);
+  int x = 0, share = 0; // share 0: x is a wide node
+  for (int d = 0; d < depth; ++d, path >>= 1) {
+    const int c = int(path & 1u);
+    const unsigned word = t.choices[x];
+    const int total = share == 0 ? k_width : share;
+    const int left = share == 0 ? node_split_of(word) : split_of(word, share);
+    int s = c == 0 ? left : total - left;
+    x = t.nodes[x].first[c];
+    const unsigned below = t.choices[x];
+    while (s > 1 && split_of(below, s) == 0) --s;
+    if (s == 1 && as_leaf_of(below)) return false;
+    share = s == 1 ? 0 : s;
   }
-};
+  return share == 0;
+}
 
 // A wide node's children under the sah rule: chapter 09's collect, unrolled over fixed
 // places so that everything stays in registers (an array indexed at run time would go to
 // local memory, "The collapse and local memory"). Shares of four children halve at most three
 // times (3 = 1 + 2, 2 = 1 + 1), so the children of a side at place p, opened, go to places p
-// and p + half: eight places for at most four children, in collect's order.
-RT_HD inline WideChildren<8> sah_children(const CollapseView& t, int i) {
+// and p + step / 2: eight places for at most four children, in collect's order, then moved to
+// places 0 to 3 in that order.
+RT_HD inline WideChildren<> sah_children(const CollapseView& t, int i) {
   constexpr int k_places = 8;
   int edge[k_places], share[k_places]; // share 0: no child at that place
+  unsigned word[k_places];
   RT_UNROLL
-  for (int p = 0; p < k_places; ++p) edge[p] = share[p] = 0;
+  for (int p = 0; p < k_places; ++p) edge[p] = share[p] = word[p] = 0;
   const int root_split = node_split_of(t.choices[i]);
   edge[0] = 2 * i;
   share[0] = root_split;
   edge[4] = 2 * i + 1;
   share[4] = k_width - root_split;
-  unsigned word[k_places] = {};
   RT_UNROLL
   for (int level = 0; level < 3; ++level) { // sides at places 0, 4; then 0, 2, 4, 6; then all
     const int step = 4 >> level;
@@ -267,7 +271,11 @@ RT_HD inline WideChildren<8> sah_children(const CollapseView& t, int i) {
       if (share[p] == 0) continue;
       const BvhNode& parent = t.nodes[edge[p] >> 1];
       const int c = edge[p] & 1, m = parent.first[c];
-      if (parent.is_leaf(c) || m < 0) continue;
+      if (parent.is_leaf(c)) continue;
+      if (m < 0) { // the one-triangle tree's empty side: no child
+        share[p] = 0;
+        continue;
+      }
       word[p] = t.choices[m];
       int s = share[p];
       while (s > 1 && split_of(word[p], s) == 0) --s;
@@ -280,33 +288,38 @@ RT_HD inline WideChildren<8> sah_children(const CollapseView& t, int i) {
       share[p + step / 2] = s - k;
     }
   }
-  WideChildren<8> out;
-  const BvhNode node = load_node(&t.nodes[i]);
-  Aabb boxes[k_places];
+  int rank[k_places];
   RT_UNROLL
-  for (int p = 0; p < k_places; ++p) {
-    if (share[p] == 0) continue;
+  for (int p = 0, before = 0; p < k_places; before += share[p] != 0, ++p) rank[p] = before;
+  WideChildren<> out;
+  RT_UNROLL
+  for (int q = 0; q < k_width; ++q) RT_UNROLL
+  for (int p = q; p < k_places; ++p) {
+    if (share[p] == 0 || rank[p] != q) continue;
     const BvhNode& parent = t.nodes[edge[p] >> 1];
     const int c = edge[p] & 1, m = parent.first[c];
-    if (!parent.is_leaf(c) && m < 0) continue; // the one-triangle tree's empty side
     WideChild child{parent.box[c], -1, m, parent.count[c], edge[p]};
     if (!parent.is_leaf(c)) {
+      const CostRecord& record = t.records[m];
       child.node = as_leaf_of(word[p]) ? -1 : m;
-      child.first = t.range_first[m];
-      child.count = t.range_end[m] - child.first;
+      child.first = record.first;
+      child.count = record.end - record.first;
     }
-    out.child[p] = child;
-    out.present |= 1u << p;
-    boxes[p] = child.box;
+    out.child[q] = child;
+    out.present |= 1u << q;
   }
+  const BvhNode node = load_node(&t.nodes[i]);
   Aabb box = node.box[0];
   box.grow(node.box[1]);
+  Aabb boxes[k_width];
+  RT_UNROLL
+  for (int c = 0; c < k_width; ++c) boxes[c] = out.child[c].box;
   ch09::assign_slots(box, boxes, out.present, out.slot);
   return out;
 }
 // [/listing:sah_rows]
 
-// Passes 1 and 2 (depth): each node's triangle range (its leftmost and rightmost leaves, walked
+// Pass 1 (depth): each node's triangle range (its leftmost and rightmost leaves, walked
 // down to) and whether it is a wide node: the root, or covering more than three triangles at
 // even depth (walked up to the root).
 struct MeasureNodes {
@@ -328,14 +341,22 @@ struct MeasureNodes {
 };
 
 // [listing:wide_order]
-// Pass 3: each wide node's children in slot order, kept, and its interior children and leaf
-// triangles counted for the scans.
+// Pass 2: each wide node's children in slot order, kept, and its interior children and leaf
+// triangles counted for the scans. Under the sah rule each node first finds whether it is a
+// wide node (find_wide), and records it for the passes after.
 struct CountChildren {
   CollapseView t;
   bool sah;
   RT_HD void operator()(int i) const {
     int interior = 0, triangles = 0;
-    if (t.is_wide[i]) {
+    // Under the sah rule a node of at most leaf_size triangles below the root is never a wide
+    // node: as one child it costs more as a wide node (its area, and more) than as a leaf
+    // (0.9 of its area at most), so only larger ones look for their path.
+    const bool wide =
+        sah ? i == 0 || (t.records[i].end - t.records[i].first > t.leaf_size && find_wide(t, i))
+            : t.is_wide[i] != 0;
+    if (sah) t.is_wide[i] = wide;
+    if (wide) {
       WideOrder order;
       RT_UNROLL
       for (int p = 0; p < k_width; ++p)
@@ -361,7 +382,7 @@ struct CountChildren {
 };
 // [/listing:wide_order]
 
-// Pass 4: each wide node numbers its interior children, in slot order, from its child_base.
+// Pass 3: each wide node numbers its interior children, in slot order, from its child_base.
 struct NumberChildren {
   CollapseView t;
   RT_HD void operator()(int i) const {
@@ -375,8 +396,8 @@ struct NumberChildren {
   }
 };
 
-// Pass 5: each wide node written at its number, and for each of its leaves' triangles, from
-// its triangle_base, the place of the triangle to copy there; pass 6 copies them, a thread per
+// Pass 4: each wide node written at its number, and for each of its leaves' triangles, from
+// its triangle_base, the place of the triangle to copy there; pass 5 copies them, a thread per
 // record, where a thread of this pass would copy up to twelve 40-byte records one after
 // another while the three threads in four that hold no wide node wait.
 struct WriteWideNodes {
@@ -409,7 +430,7 @@ struct WriteWideNodes {
   }
 };
 
-// Pass 6: a thread per record, its triangle copied from where pass 5 said. Neighbouring
+// Pass 5: a thread per record, its triangle copied from where pass 4 said. Neighbouring
 // records come from neighbouring triangles (both orders are depth first), so the reads as well
 // as the writes of a warp fall on few cache lines.
 struct GatherRecords {
@@ -477,7 +498,7 @@ WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size,
       records_(backend, std::size_t(5) * std::max(1, triangle_count)),
       sources_(backend, std::max(1, triangle_count)),
       scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0),
-      spreads_(backend, rule == CollapseRule::sah ? capacity_ : 0),
+      records_sah_(backend, rule == CollapseRule::sah ? capacity_ : 0),
       choices_(backend, rule == CollapseRule::sah ? capacity_ : 0),
       arrivals_(backend, rule == CollapseRule::sah ? capacity_ : 0) {
   if (leaf_size < 1 || leaf_size > k_wide_leaf_triangles)
@@ -515,14 +536,13 @@ void WideCollapse::run(const BvhNode* nodes, const int* parents, int node_count,
                        nodes_.data(),
                        records_.data(),
                        sources_.data(),
-                       spreads_.data(),
+                       records_sah_.data(),
                        choices_.data(),
                        arrivals_.data()};
   const bool sah = rule_ == CollapseRule::sah;
   if (sah) {
     arrivals_.fill_bytes(0);
     for_each_index(backend_, n, CostRows{t});
-    for_each_index(backend_, n, FindWide{t});
   } else {
     for_each_index(backend_, n, MeasureNodes{t});
   }

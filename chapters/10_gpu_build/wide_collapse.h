@@ -38,6 +38,14 @@ struct alignas(16) WideOrder {
 };
 // [/listing:wide_order_record]
 
+// What the sah rule's bottom-up pass leaves at a node for its parent: its spread (the least
+// cost of j = 2..4 children shared between its two sides: spread[j - 2]) and the left side's
+// share of each (bits 2(j - 2) and up of k), and its triangles, first .. end - 1.
+struct alignas(8) CostRecord {
+  double spread[3];
+  int first, end, k;
+};
+
 // The collapse's arrays, made once for trees of `triangle_count` triangles; run() collapses a
 // tree (every frame's, in an animation) with the passes alone: on the GPU nothing waits.
 class WideCollapse {
@@ -71,9 +79,9 @@ private:
   BackendArray<float2> records_;
   BackendArray<int> sources_; // per record: its triangle's place in the binary leaf order
   BackendArray<unsigned char> scratch_;
-  // The sah rule's, per binary node: its spread (the costs its parent finishes), its choices
+  // The sah rule's, per binary node: what its parent reads (CostRecord), its choices
   // (packed), its arrival counter.
-  BackendArray<ch09::CostSpread<4>> spreads_;
+  BackendArray<CostRecord> records_sah_;
   BackendArray<unsigned> choices_, arrivals_;
 };
 
