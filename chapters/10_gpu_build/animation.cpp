@@ -108,7 +108,8 @@ AnimationResult run_animation(const AnimationOptions& options) {
   std::vector<std::unique_ptr<MovingFrames>> scenes; // one per update: each keeps its tree
   for (std::size_t u = 0; u < options.updates.size(); ++u)
     scenes.push_back(std::make_unique<MovingFrames>(options.backend, options.builder,
-                                                    options.detail, options.model.get()));
+                                                    options.detail, options.model.get(),
+                                                    options.collapse));
   const CpuWorkName work("moving scene");
   CpuProgress progress(options.frames, "frames");
   for (int frame = 0; frame < options.frames; ++frame) {

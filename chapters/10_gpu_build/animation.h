@@ -68,6 +68,7 @@ Update parse_update(const std::string& name); // "rebuild" or "refit"; UsageErro
 struct AnimationOptions {
   Backend backend = Backend::cpu; // resolved
   Builder builder = Builder::lbvh;
+  CollapseRule collapse = CollapseRule::sah;
   std::vector<Update> updates{Update::rebuild, Update::refit};
   int frames = 60;
   double seconds_per_frame = k_seconds_per_frame;

@@ -132,22 +132,26 @@ ReportRow build_row(const std::string& scene, Builder builder, const BuiltTree& 
            {"collapse_depth_ms", tree.collapse_depth_ms}}};
 }
 
-ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build) {
-  return [builders, on_build](const ch07::TracerScene& scene) {
+ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build,
+                                  CollapseRule rule) {
+  return [builders, on_build, rule](const ch07::TracerScene& scene) {
     std::vector<ch07::Tracer> out;
     for (const Builder builder : builders) {
       BuiltTree tree = build_tree(builder, scene.backend, scene.mesh);
-      // The collapse timed as the builds are.
+      // Both collapses timed as the builds are; `rule`'s tree kept.
       ch09::Wide4PackedBvh parallel;
-      const double collapse_ms = median_build_ms(scene.backend, [&] {
-        parallel = collapse_to_wide4(scene.backend, tree.bvh);
-        return parallel.stats.build_ms;
-      });
-      parallel.stats.build_ms = collapse_ms;
-      tree.collapse_ms = parallel.stats.build_ms;
-      tree.collapse_depth_ms = median_build_ms(scene.backend, [&] {
-        return collapse_to_wide4(scene.backend, tree.bvh, CollapseRule::depth).stats.build_ms;
-      });
+      const auto timed_collapse = [&](CollapseRule timed) {
+        return median_build_ms(scene.backend, [&] {
+          ch09::Wide4PackedBvh wide = collapse_to_wide4(scene.backend, tree.bvh, timed);
+          const double ms = wide.stats.build_ms;
+          if (timed == rule) parallel = std::move(wide);
+          return ms;
+        });
+      };
+      tree.collapse_ms = timed_collapse(CollapseRule::sah);
+      tree.collapse_depth_ms = timed_collapse(CollapseRule::depth);
+      parallel.stats.build_ms =
+          rule == CollapseRule::sah ? tree.collapse_ms : tree.collapse_depth_ms;
       parallel.stats.build_ms += tree.bvh.stats.build_ms;
       if (on_build) on_build(scene.name, builder, tree);
       const ch09::WideLayout layout = ch09::collapse(tree.bvh, 4, ch09::Collapse::sah);
@@ -157,9 +161,10 @@ ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_bu
       out.push_back(ch09::wide4_tracer(std::string(to_string(builder)) + " 4-wide",
                                        ch09::pack_wide<4, ch09::PackedTriangles>(layout),
                                        scene));
-      out.push_back(
-          ch09::wide4_tracer(std::string(to_string(builder)) + " 4-wide (parallel collapse)",
-                             std::move(parallel), scene));
+      out.push_back(ch09::wide4_tracer(std::string(to_string(builder)) +
+                                           " 4-wide (parallel collapse" +
+                                           (rule == CollapseRule::sah ? ")" : ", depth rule)"),
+                                       std::move(parallel), scene));
     }
     return out;
   };

@@ -15,6 +15,7 @@
 #include "rt/report.h"
 #include "runner.h"
 #include "tracer.h"
+#include "wide_collapse.h"
 
 namespace rt::ch10 {
 
@@ -62,10 +63,13 @@ using BuildSink =
 
 // For each scene, the tree of each of `builders` as three tracers: "<builder>" (chapter 07's
 // traversal), "<builder> 4-wide" (chapter 09's SAH collapse to four children, on the CPU) and
-// "<builder> 4-wide (parallel collapse)" (this chapter's collapse by the sah rule, on the
-// scene's backend: chapter 09's tree, made in parallel; its time is BuiltTree::collapse_ms,
-// and the depth rule's collapse_depth_ms). Their hits match chapter 07's up to exact ties.
-ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build = {});
+// "<builder> 4-wide (parallel collapse)" (this chapter's collapse by `rule`, on the scene's
+// backend; by the sah rule chapter 09's tree, made in parallel; the depth rule's tracer ends
+// in ", depth rule)"). BuiltTree::collapse_ms is the sah rule's time, collapse_depth_ms the
+// depth rule's, both measured whichever is traced. Their hits match chapter 07's up to exact
+// ties.
+ch07::TracerMaker builder_tracers(std::vector<Builder> builders, BuildSink on_build = {},
+                                  CollapseRule rule = CollapseRule::sah);
 
 // The builds as a Markdown table: builder, where, ms, the parallel collapse's ms (sah rule,
 // depth rule), SAH cost, depth, nodes.

@@ -8,6 +8,8 @@
 //   --dump-hits FILE --ray-type T     the protocol's hits of one view through --builder's tree
 //   --benchmark [SCENE...]            every builder on the benchmark set (default) or the
 //   scenes
+// --collapse sah|depth picks how the parallel collapse chooses wide nodes (wide_collapse.h),
+// in every mode but --image-only.
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -33,11 +35,12 @@ using namespace rt::ch10;
 
 struct ChapterOptions : ch03::ProgramOptions {
   ch07::QueryOptions query;
-  std::optional<Builder> builder; // --builder: the one built (queries) or measured
-  bool moving = false;            // --moving
-  bool moving_model = false;      // --moving with --scene: the model instead of the torus
-  std::optional<Update> update;   // --update: one of them; both by default
-  MovingOptions animation;        // --detail, --animation-csv
+  std::optional<Builder> builder;            // --builder: the one built (queries) or measured
+  CollapseRule collapse = CollapseRule::sah; // --collapse: the parallel collapse's rule
+  bool moving = false;                       // --moving
+  bool moving_model = false;    // --moving with --scene: the model instead of the torus
+  std::optional<Update> update; // --update: one of them; both by default
+  MovingOptions animation;      // --detail, --animation-csv
   bool skip_cpu = false;
 };
 
@@ -62,6 +65,7 @@ BuildSink keep_builds(Report& report, std::vector<std::pair<Builder, BuiltTree>>
 // --moving: the image is always traced through the LBVH.
 const ch07::FlagModes k_chapter_flags[] = {
     {"--builder", ch07::k_traced_modes},
+    {"--collapse", ch07::k_traced_modes},
     {"--skip-cpu", ch07::k_report_modes},
 };
 
@@ -84,7 +88,7 @@ ch07::BenchmarkMode benchmark_mode(const ChapterOptions& options,
   mode.reference = "chapter 07's hits up to exact ties; brute force on sampled rays";
   mode.tracers = [&options, &builds](Report& report) {
     return std::vector<ch07::TracerMaker>{
-        builder_tracers(measured(options), keep_builds(report, builds))};
+        builder_tracers(measured(options), keep_builds(report, builds), options.collapse)};
   };
   mode.tables = [&builds](const std::vector<ch07::SceneResult>& results,
                           const ch07::RunnerOptions& runner) {
@@ -103,6 +107,7 @@ int run(ChapterOptions& options) {
                                     backend);
   if (options.moving) {
     options.animation.animation.builder = options.builder.value_or(Builder::lbvh);
+    options.animation.animation.collapse = options.collapse;
     if (options.moving_model) { // --scene: that model waving in the torus's place
       options.animation.animation.model = std::make_shared<const ch04::Mesh>(
           fit_moving_model(ch05::load_obj(options.query.scene_path).geometry));
@@ -113,9 +118,9 @@ int run(ChapterOptions& options) {
     return run_moving_program(options, options.animation, backend);
   }
   if (options.query.query())
-    return ch07::run_query(options.query, options, backend, {},
-                           ch04::TriangleVariant::watertight,
-                           builder_tracers({options.builder.value_or(Builder::lbvh)}));
+    return ch07::run_query(
+        options.query, options, backend, {}, ch04::TriangleVariant::watertight,
+        builder_tracers({options.builder.value_or(Builder::lbvh)}, {}, options.collapse));
 
   ch03::CameraSpec camera = options.camera;
   const ch06::ShadedScene scene =
@@ -163,7 +168,9 @@ int run(ChapterOptions& options) {
             ch07::add_runner_context(rows, runner);
             runs = ch07::run_scene_on_each(
                 report_backends(backend, options.skip_cpu), {options.query.scene_path},
-                {builder_tracers(measured(options), keep_builds(rows, builds))}, runner, rows);
+                {builder_tracers(measured(options), keep_builds(rows, builds),
+                                 options.collapse)},
+                runner, rows);
           },
   };
   const int code = ch03::run_window_or_headless(options, backend, parts, report);
@@ -191,6 +198,13 @@ int main(int argc, char** argv) {
          "the moving "
          "scene's tree; the measurements then compare it with cpu_sah alone)")
       ->default_str("all (queries and --moving: lbvh)");
+  app.add_option_function<std::string>(
+         "--collapse",
+         [&](const std::string& text) { options.collapse = parse_collapse_rule(text); },
+         "The parallel collapse to 4-wide, of the traced trees and the moving scene's: sah "
+         "(chapter 09's choice of children by cost) or depth (a fixed rule, looking at no "
+         "cost)")
+      ->default_str("sah");
   app.add_flag("--moving", options.moving,
                "The moving scene: in the window, its tree updated for every frame drawn "
                "(--update, default rebuild); headless, --frames frames (default 60) with the "

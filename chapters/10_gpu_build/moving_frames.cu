@@ -75,14 +75,14 @@ struct MovingFrames::State {
   bool built = false;
 
   State(Backend b, Builder which, int d, int model_count, int per_sphere,
-        const ch05::ObjMesh& start, std::vector<Vec3f> rest_pose)
+        const ch05::ObjMesh& start, std::vector<Vec3f> rest_pose, CollapseRule rule)
       : backend(b), builder(which), detail(d), model_vertices(model_count),
         sphere_vertices(per_sphere), scene(ch06::scene_from_obj(start, {})),
         features(ch06::features_used(scene, false, true)),
         rest(b, std::span<const Vec3f>(rest_pose)),
         vertices(b, std::span<const Vec3f>(scene.mesh.vertices)),
         triangles(b, std::span<const IndexedTriangle>(scene.mesh.triangles)), lbvh(b, mesh()),
-        collapse(b, mesh().triangle_count), clock(b, 5) {}
+        collapse(b, mesh().triangle_count, k_wide_leaf_triangles, rule), clock(b, 5) {}
 
   TreeArrays& tree() { return host_built ? *host_built : lbvh.tree(); }
 
@@ -132,7 +132,7 @@ struct MovingFrames::State {
 };
 
 MovingFrames::MovingFrames(Backend backend, Builder builder, int detail,
-                           const ch04::Mesh* model) {
+                           const ch04::Mesh* model, CollapseRule rule) {
   const ch05::ObjMesh start = moving_scene_at(0.0, detail, model);
   // Rest pose: a model as fitted, the spheres' vertices as offsets from their centres, the
   // floor as it lies.
@@ -143,9 +143,9 @@ MovingFrames::MovingFrames(Backend backend, Builder builder, int detail,
       model ? model->vertices.size() : std::size_t(detail) * std::size_t(detail / 2);
   for (int k = 0; k < 4; ++k)
     std::copy(sphere.begin(), sphere.end(), rest.begin() + first + k * sphere.size());
-  state_ = std::make_unique<State>(backend, builder, detail,
-                                   model ? static_cast<int>(model->vertices.size()) : 0,
-                                   static_cast<int>(sphere.size()), start, std::move(rest));
+  state_ = std::make_unique<State>(
+      backend, builder, detail, model ? static_cast<int>(model->vertices.size()) : 0,
+      static_cast<int>(sphere.size()), start, std::move(rest), rule);
 }
 
 MovingFrames::~MovingFrames() = default;

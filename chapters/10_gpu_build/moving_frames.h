@@ -28,7 +28,9 @@ public:
   // `builder`: the LBVH's passes on the backend; another builder from the vertices copied to
   // the host, its tree copied back (the refit and the rest stay on the backend).
   // With a `model` (fit_moving_model's), the waving model in the torus's place.
-  MovingFrames(Backend backend, Builder builder, int detail, const ch04::Mesh* model = nullptr);
+  // `rule`: how the tree is collapsed to 4-wide (wide_collapse.h).
+  MovingFrames(Backend backend, Builder builder, int detail, const ch04::Mesh* model = nullptr,
+               CollapseRule rule = CollapseRule::sah);
   ~MovingFrames();
   MovingFrames(const MovingFrames&) = delete;
   MovingFrames& operator=(const MovingFrames&) = delete;

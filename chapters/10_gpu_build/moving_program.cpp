@@ -68,7 +68,8 @@ public:
 
   void render(Backend backend, const ch03::CameraSpec& spec, Extent extent, Rgba8* pixels) {
     if (!frames_)
-      frames_.emplace(backend, options_.builder, options_.detail, options_.model.get());
+      frames_.emplace(backend, options_.builder, options_.detail, options_.model.get(),
+                      options_.collapse);
     frames_->frame(frame_++ * options_.seconds_per_frame, options_.updates.front(),
                    ch03::make_camera<float>(spec, extent), extent, pixels);
   }
@@ -121,7 +122,8 @@ int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving
             return ch03::window_fps_row("moving scene", backend, result);
           },
       .window_context = {{"tree", builder + ", " + to_string(animation.updates.front()) +
-                                      " every frame drawn"}},
+                                      " every frame drawn, collapsed by the " +
+                                      to_string(animation.collapse) + " rule"}},
   };
   if (ch03::show_in_window(program, backend, parts, report)) {
     finish_report(report, program.common);
@@ -133,10 +135,12 @@ int run_moving_program(const ch03::ProgramOptions& program, MovingOptions moving
       (animation.model ? "waving " + moving.model_name : std::string("rippling torus")) +
           ", four orbiting spheres and a floor, " + group_digits(result.triangles) +
           " triangles, " + std::to_string(animation.frames) + " frames");
-  report.add_context("tree",
-                     builder + (animation.updates.size() == 1
-                                    ? std::string(", ") + to_string(animation.updates[0])
-                                    : ", rebuilt and refitted"));
+  report.add_context("tree", builder +
+                                 (animation.updates.size() == 1
+                                      ? std::string(", ") + to_string(animation.updates[0])
+                                      : ", rebuilt and refitted") +
+                                 ", collapsed by the " + to_string(animation.collapse) +
+                                 " rule");
   print_frames(animation, result);
   add_rows(report, animation, result);
   if (!moving.csv_path.empty()) {

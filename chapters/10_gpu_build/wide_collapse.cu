@@ -573,6 +573,12 @@ ch09::Wide4PackedBvh WideCollapse::to_host() const {
 
 const char* to_string(CollapseRule rule) { return rule == CollapseRule::sah ? "sah" : "depth"; }
 
+CollapseRule parse_collapse_rule(const std::string& name) {
+  if (name == "sah") return CollapseRule::sah;
+  if (name == "depth") return CollapseRule::depth;
+  throw UsageError("the collapse rules are sah and depth, not '" + name + "'");
+}
+
 ch09::Wide4PackedBvh collapse_to_wide4(Backend backend, const ch07::Bvh& binary,
                                        CollapseRule rule) {
   for (const BvhNode& node : binary.nodes)

@@ -24,6 +24,7 @@ inline constexpr int k_wide_leaf_triangles = ch09::k_max_leaf_triangles;
 enum class CollapseRule { sah, depth };
 
 const char* to_string(CollapseRule rule);
+CollapseRule parse_collapse_rule(const std::string& name); // "sah" or "depth"; else UsageError
 
 // [listing:wide_order_record]
 // A wide node's children in slot order, as the collapse's second pass works them out from the

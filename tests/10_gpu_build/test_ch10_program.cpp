@@ -92,6 +92,19 @@ TEST_CASE("program: --builder narrows the builds to it and chapter 07's", "[ch10
   CHECK_THAT(run.output, !contains("cornell_room, build LBVH"));
 }
 
+TEST_CASE("program: --collapse depth traces the depth rule's tree, and both are timed",
+          "[ch10]") {
+  const ProgramRun run = run_program("--scene " + k_room +
+                                     " --width 32 --height 18 --frames 1 --builder lbvh "
+                                     "--collapse depth --output ''");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.output, contains("LBVH 4-wide (parallel collapse, depth rule) "));
+  CHECK_THAT(run.output, !contains("LBVH 4-wide (parallel collapse) "));
+  CHECK_THAT(run.output, contains("| LBVH | cpu |"));
+  CHECK_THAT(run.output, !contains("disagree"));
+}
+
 TEST_CASE("program: the benchmark mode on a small scene", "[ch10]") {
   const ProgramRun run = run_program("--benchmark " + k_room +
                                      " --width 48 --height 27 --frames 1 --builder lbvh63");
@@ -197,6 +210,7 @@ TEST_CASE("program: bad input gives one error line and a non-zero exit", "[ch10]
   const std::string hits = (folder / "hits.bin").string();
   const rt::testing::RefusedInput cases[] = {
       {"--builder octree", 2, "the builders are cpu_sah, lbvh, lbvh63, ploc"},
+      {"--collapse greedy", 2, "the collapse rules are sah and depth, not 'greedy'"},
       {"--update sometimes --moving", 2, "rebuild or refit"},
       {"--update refit", 2, "go with --moving"},
       {"--detail 4 --moving", 2, "--detail"},
@@ -222,6 +236,8 @@ TEST_CASE("program: a flag that does nothing in the mode asked for is refused", 
       {q.dump + " --output " + q.image, 2, "--output does nothing with --dump-hits"},
       {"--image-only --builder ploc --output " + q.image, 2,
        "--builder does nothing with --image-only"},
+      {"--image-only --collapse depth --output " + q.image, 2,
+       "--collapse does nothing with --image-only"},
   };
   rt::testing::check_refused(run_program, cases);
   const rt::testing::RefusedInput window_cases[] = {
