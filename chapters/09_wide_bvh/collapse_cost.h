@@ -41,7 +41,7 @@ RT_HD inline void spread_rows(const double* left, const double* right, int width
         best_k = k;
       }
     }
-    if (best_k == 0) { // no finite cost (boxes too large for double): the first share
+    if (best_k == 0) { // every sum infinite: the first share, so no side is left no child
       best = left[0] + right[j - 2];
       best_k = 1;
     }
@@ -59,8 +59,8 @@ struct CostChoices {
 
 // The row of a node of `area` (half area of its box) from its spread. `leaf`: its cost as one
 // wide leaf, A * triangles * k_triangle_cost, where `can_be_leaf` (it has few enough
-// triangles), else infinity; a node that cannot be a leaf never is one, whatever infinities
-// its boxes give.
+// triangles), else infinity; a node that cannot be a leaf never is one, even were its interior
+// cost infinite too.
 template <int Width>
 RT_HD inline void finish_row(double area, double leaf, bool can_be_leaf,
                              const CostSpread<Width>& p, int width, double* cost,

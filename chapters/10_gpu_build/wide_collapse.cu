@@ -69,6 +69,16 @@ template <int Places = k_width> struct WideChildren {
   unsigned present = 0;
 };
 
+// The octant slots of the children of the wide node made of binary node `node`.
+RT_HD inline void assign_child_slots(const BvhNode& node, WideChildren<>& out) {
+  Aabb box = node.box[0];
+  box.grow(node.box[1]);
+  Aabb boxes[k_width];
+  RT_UNROLL
+  for (int c = 0; c < k_width; ++c) boxes[c] = out.child[c].box;
+  ch09::assign_slots(box, boxes, out.present, out.slot);
+}
+
 // Binary child c of node i, as a leaf of the wide tree or opened further (interior = true).
 RT_HD inline WideChild binary_child(const CollapseView& t, const BvhNode& node, int at, int c,
                                     bool& interior) {
@@ -103,12 +113,7 @@ RT_HD inline WideChildren<> wide_children(const CollapseView& t, int i) {
       out.present |= 1u << (2 * c + d);
     }
   }
-  Aabb box = node.box[0];
-  box.grow(node.box[1]);
-  Aabb boxes[k_width];
-  RT_UNROLL
-  for (int c = 0; c < k_width; ++c) boxes[c] = out.child[c].box;
-  ch09::assign_slots(box, boxes, out.present, out.slot);
+  assign_child_slots(node, out);
   return out;
 }
 
@@ -130,7 +135,6 @@ RT_HD void in_slot_order(const WideChildren<Places>& w, Visit&& visit) {
     if ((w.present >> c & 1u) != 0 && rank[c] == p) visit(w.child[c], w.slot[c], p);
 }
 
-// [listing:sah_rows]
 // The sah rule. A node's choices in one word: bits 2(i - 2) and up, the left share of i
 // children (i = 2..4; 0 where fewer cost no more); bits 6-7 the left share of a wide node made
 // of it; bit 8, one child means a leaf.
@@ -207,6 +211,7 @@ struct CostRows {
     if (x == 0) t.choices[0] = pack_choices(ch09::CostChoices{}, mine.k[k_width]);
   }
 
+  // [listing:cost_climb]
   RT_HD void operator()(int i) const {
     const BvhNode& node = t.nodes[i];
     const int ends = (node.count[0] > 0) + (node.count[1] > 0 || node.first[1] < 0);
@@ -218,8 +223,10 @@ struct CostRows {
       if (!second_arrival(&t.arrivals[x])) break;
     }
   }
+  // [/listing:cost_climb]
 };
 
+// [listing:find_wide]
 // Whether node i is a wide node under the sah rule, from the root down along its path (read
 // first as the bits of its ancestors' child slots). At a wide node, its children get the
 // shares of its left and right side; a node given s children takes fewer while fewer cost no
@@ -245,6 +252,7 @@ RT_HD inline bool find_wide(const CollapseView& t, int i) {
   }
   return share == 0;
 }
+// [/listing:find_wide]
 
 // A wide node's children under the sah rule: chapter 09's collect, unrolled over fixed
 // places so that everything stays in registers (an array indexed at run time would go to
@@ -308,16 +316,9 @@ RT_HD inline WideChildren<> sah_children(const CollapseView& t, int i) {
     out.child[q] = child;
     out.present |= 1u << q;
   }
-  const BvhNode node = load_node(&t.nodes[i]);
-  Aabb box = node.box[0];
-  box.grow(node.box[1]);
-  Aabb boxes[k_width];
-  RT_UNROLL
-  for (int c = 0; c < k_width; ++c) boxes[c] = out.child[c].box;
-  ch09::assign_slots(box, boxes, out.present, out.slot);
+  assign_child_slots(load_node(&t.nodes[i]), out);
   return out;
 }
-// [/listing:sah_rows]
 
 // Pass 1 (depth): each node's triangle range (its leftmost and rightmost leaves, walked
 // down to) and whether it is a wide node: the root, or covering more than three triangles at
