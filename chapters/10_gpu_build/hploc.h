@@ -19,16 +19,21 @@ namespace rt::ch10 {
 
 using ch07::Aabb;
 
-// What merging two clusters costs: the half area of their union, the left one's box grown by
-// the right one's, the same operations in the same order on every backend. A NaN (an area of
-// inf * 0, on coordinates near the float range's end) counts as infinity, so that the costs
-// are totally ordered and a choice depends on nothing but them.
+// A box's half area as the builders compare it: a NaN (an area of inf * 0, on coordinates
+// near the float range's end) counts as infinity, so that the areas are totally ordered and a
+// choice depends on nothing but them.
+RT_HD inline float ordered_area(const Aabb& box) {
+  const float area = box.half_area();
+  return area <= std::numeric_limits<float>::max() ? area
+                                                   : std::numeric_limits<float>::infinity();
+}
+
+// What merging two clusters costs: the ordered area of their union, the left one's box grown by
+// the right one's, the same operations in the same order on every backend.
 RT_HD inline float merge_cost(const Aabb& left, const Aabb& right) {
   Aabb merged = left;
   merged.grow(right);
-  const float area = merged.half_area();
-  return area <= std::numeric_limits<float>::max() ? area
-                                                   : std::numeric_limits<float>::infinity();
+  return ordered_area(merged);
 }
 
 // A list of clusters, one per lane, as the CPU keeps it (the GPU keeps lane k's in lane k's

@@ -24,13 +24,9 @@ namespace rt::ch10 {
 inline constexpr int k_treelet_leaves = 7;
 inline constexpr int k_treelet_subsets = 1 << k_treelet_leaves;
 
-// A node's cost in the treelet search: its box's half area, with a NaN (inf * 0, on
-// coordinates near the float range's end) counted as infinity, so that costs are ordered.
-RT_HD inline float treelet_area(const Aabb& box) {
-  const float area = box.half_area();
-  return area <= std::numeric_limits<float>::max() ? area
-                                                   : std::numeric_limits<float>::infinity();
-}
+// A node's cost in the treelet search: its box's ordered area (hploc.h), as H-PLOC's merges
+// price theirs.
+RT_HD inline float treelet_area(const Aabb& box) { return ordered_area(box); }
 
 // A treelet as it was found: its leaves, and its interior nodes with their children, each
 // child a leaf's place in `leaf` (0 and up) or an interior node's (~k for node[k]). node[0] is
@@ -157,7 +153,7 @@ RT_HD inline void rewire_treelet(const ClusterTree& tree, const Treelet& t,
                                  const unsigned char* split) {
   int leaves_of[k_treelet_leaves];
   for (int i = 0; i < t.leaf_count; ++i)
-    leaves_of[i] = t.leaf[i] < tree.n ? 1 : load_published(&tree.leaf_counts[t.leaf[i]]);
+    leaves_of[i] = load_published(&tree.leaf_counts[t.leaf[i]]); // 1 for a leaf (StartLeaves)
   unsigned pending_set[k_treelet_leaves - 1];
   int pending_node[k_treelet_leaves - 1];
   int pending = 0, given = 1;

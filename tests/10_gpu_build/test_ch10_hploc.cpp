@@ -119,6 +119,15 @@ std::vector<MadeNode> plain_ploc(std::vector<Cluster>& list, int target, int rad
 }
 
 // A list of `count` random boxes; with `ties`, a few shapes repeated, so that costs tie.
+// The warps that cover `threads` threads, in an order shuffled by `seed`: the order in which a
+// GPU might run them is not the order of their numbers.
+std::vector<int> scrambled_warps(int threads, unsigned seed) {
+  std::vector<int> order((threads + k_warp_lanes - 1) / k_warp_lanes);
+  for (std::size_t w = 0; w < order.size(); ++w) order[w] = static_cast<int>(w);
+  std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+  return order;
+}
+
 std::vector<Cluster> random_clusters(std::mt19937& rng, int count, bool ties) {
   std::uniform_real_distribution<float> where(-10.0f, 10.0f), size(0.01f, 2.0f);
   std::vector<Cluster> list;
@@ -427,12 +436,8 @@ TEST_CASE("the GPU's walk, its warps played by fibers, builds the CPU threads' t
     WalkArrays on_cpu(codes, boxes, c.radius, c.threshold);
     for (int leaf = c.n - 1; leaf >= 0; --leaf) walk_on_cpu(on_cpu.walk, leaf);
     WalkArrays on_warps(codes, boxes, c.radius, c.threshold);
-    const int warps = (c.n + k_warp_lanes - 1) / k_warp_lanes;
-    std::vector<int> order(warps);
-    for (int w = 0; w < warps; ++w) order[w] = w;
-    std::shuffle(order.begin(), order.end(), std::mt19937(c.n));
     FiberWarp warp;
-    for (const int w : order)
+    for (const int w : scrambled_warps(c.n, c.n))
       REQUIRE(warp.run([&](FiberWarp::Lane& lane) {
         walk_on_warp(lane, on_warps.walk, w * k_warp_lanes + lane.lane, lane.lane);
       }));
@@ -817,13 +822,9 @@ TEST_CASE("the GPU's treelet walk, its warps played by fibers, makes the CPU thr
       for (int leaf = n - 1; leaf >= 0; --leaf) threads(leaf);
       const RestructureTreelets warps{on_warps.walk.tree, warp_arrivals.data(),
                                       treelet_min_leaves(round)};
-      const int warp_count = (n + k_warp_lanes - 1) / k_warp_lanes;
-      std::vector<int> order(warp_count);
-      for (int w = 0; w < warp_count; ++w) order[w] = w;
-      std::shuffle(order.begin(), order.end(), std::mt19937(n + round));
       FiberWarp warp;
       TreeletTables tables;
-      for (const int w : order)
+      for (const int w : scrambled_warps(n, n + round))
         REQUIRE(warp.run([&](FiberWarp::Lane& lane) {
           restructure_on_warp(lane, warps, w * k_warp_lanes + lane.lane, lane.lane, tables);
         }));
