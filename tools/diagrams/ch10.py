@@ -3,7 +3,8 @@
 triangles, the sorted codes' highest differing bits that split Karras's nodes, Karras's tree over
 eight sorted Morton codes, each interior node made by its own thread, PLOC's rounds re-enacted on
 a dozen points in the plane, H-PLOC's walk up the LBVH of sixteen points, a treelet of seven
-boxes before and after its restructuring, and the moving scene's frames, rebuilt
+boxes before and after its restructuring, the shares that the parallel collapse's sah rule hands
+down a binary subtree to find one wide node's children, and the moving scene's frames, rebuilt
 against refitted, from the CSVs the program wrote into book/data: the 2-core machine's (SVG) and
 the H200's, torus and dragon, each frame's tree, collapse and trace stacked (PNG).
 
@@ -639,6 +640,66 @@ def treelet_plot(out):
     plt.close(fig)
 
 
+# A made-up binary subtree under one wide node R, with made-up choices (the sah rule's shares):
+# (name, x, y, parent, side, share given, what it becomes). R gives its sides 1 and 3; A, given
+# one child, is a leaf; B shares its three as 1 and 2; C, given one, is a wide node; D shares
+# its two as 1 and 1, E a binary leaf and F a leaf of its triangles. G lies below the leaf A.
+SHARE_NODES = (
+    ("R", 4.0, 4.0, None, None, 4, "wide"),
+    ("A", 1.6, 3.0, "R", "left", 1, "leaf"),
+    ("B", 6.0, 3.0, "R", "right", 3, "open"),
+    ("G", 1.0, 2.0, "A", "left", None, "below"),
+    ("C", 4.4, 2.0, "B", "left", 1, "wide"),
+    ("D", 7.4, 2.0, "B", "right", 2, "open"),
+    ("E", 6.6, 1.0, "D", "left", 1, "binary leaf"),
+    ("F", 8.3, 1.0, "D", "right", 1, "leaf"),
+)
+
+
+def collapse_shares(out):
+    """How the sah rule finds the children of the wide node R: shares handed down (numbers on
+    the links), nodes opened (grey), the four children (blue leaves, a red wide node)."""
+    fig, ax = plt.subplots(figsize=(10, 4.6))
+    ax.axis("off")
+    ax.set_xlim(-0.2, 11.6)
+    ax.set_ylim(0.3, 4.7)
+    at = {name: (x, y) for name, x, y, *_ in SHARE_NODES}
+    colours = {"wide": RED, "leaf": BLUE, "binary leaf": BLUE, "open": GREY, "below": "#bbbbbb"}
+    for name, x, y, parent, side, share, kind in SHARE_NODES:
+        if parent:
+            px, py = at[parent]
+            ax.plot([px, x], [py, y], color="#999999", linewidth=1, zorder=1)
+            if share is not None:
+                ax.text((px + x) / 2 + (-0.22 if side == "left" else 0.22), (py + y) / 2,
+                        str(share), ha="center", va="center", fontsize=11, color=GREEN,
+                        fontweight="bold")
+        shape = "square,pad=0.25" if kind in ("leaf", "binary leaf") else "circle,pad=0.25"
+        ax.text(x, y, name, ha="center", va="center", fontsize=11, color="white", zorder=2,
+                bbox=dict(boxstyle=shape, facecolor=colours[kind], edgecolor="none"))
+    notes = (
+        (4.0, 4.45, "R: a wide node, four children to hand out: 1 to the left, 3 to the right"),
+        (2.75, 2.55, "A: one child, a leaf\n(cheaper than a wide node)"),
+        (6.85, 3.35, "B: three, shared again: 1 + 2"),
+        (1.0, 1.45, "G: below a leaf,\nnever a wide node"),
+        (4.4, 1.45, "C: one child, a wide node\n(its own four come later)"),
+        (8.25, 2.35, "D: two, shared: 1 + 1"),
+        (7.45, 0.45, "E, F: one each, leaves"),
+    )
+    for x, y, text in notes:
+        ax.text(x, y, text, ha="center", va="center", fontsize=8.5, color=GREY)
+    ax.text(9.9, 3.4, "C's walk: climbing C, B, R\nit notes left, right;\nwalking down it "
+            "replays\nR's 3 to the right, B's 1\nto the left: C is given\none child, and "
+            "it is\nnot a leaf: a wide node", ha="center", va="center", fontsize=8.5,
+            color=RED)
+    fig.text(0.5, 0.02, "Made-up shares on a made-up subtree. R's children are A (a leaf), C (a "
+             "wide node), E and F (leaves); B and D are opened and disappear. A node given s "
+             "children first takes fewer\nwhile fewer cost no more; every node finds its own "
+             "fate by walking its one path from the root, so all of them do it at once.",
+             ha="center", fontsize=9, color=GREY)
+    save(fig, out / "10_collapse_shares.svg")
+    plt.close(fig)
+
+
 def main():
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "book" / "images"
     out.mkdir(parents=True, exist_ok=True)
@@ -648,6 +709,7 @@ def main():
     ploc_merges(out)
     hploc_walk(out)
     treelet_plot(out)
+    collapse_shares(out)
     animation_plot(out)
     for csv_name, scene, png_name in GPU_ANIMATIONS:
         gpu_animation_plot(out, csv_name, scene, png_name)
