@@ -34,7 +34,7 @@ struct CollapseView {
   const TriangleF* triangles; // in the binary tree's leaf order; null: ids alone (boxes)
   const int* triangle_ids;
   int leaf_size;    // the most triangles a wide leaf takes: 1 to 3
-  int* range_first; // the node's triangles are range_first .. range_end - 1
+  int* range_first; // depth rule: the node's triangles are range_first .. range_end - 1
   int* range_end;
   int* is_wide;
   int* interior_counts; // of a wide node: its interior children, and its leaves' triangles
@@ -490,12 +490,13 @@ TreeArrays upload_tree(Backend backend, const ch07::Bvh& bvh) {
 WideCollapse::WideCollapse(Backend backend, int triangle_count, int leaf_size,
                            CollapseRule rule)
     : backend_(backend), triangle_count_(triangle_count), leaf_size_(leaf_size),
-      capacity_(std::max(1, triangle_count - 1)), rule_(rule), range_first_(backend, capacity_),
-      range_end_(backend, capacity_), is_wide_(backend, capacity_),
-      interior_counts_(backend, capacity_), leaf_counts_(backend, capacity_),
-      interior_offsets_(backend, capacity_), triangle_offsets_(backend, capacity_),
-      wide_index_(backend, capacity_), orders_(backend, capacity_), wide_total_(backend, 1),
-      nodes_(backend, capacity_),
+      capacity_(std::max(1, triangle_count - 1)), rule_(rule),
+      range_first_(backend, rule == CollapseRule::depth ? capacity_ : 0),
+      range_end_(backend, rule == CollapseRule::depth ? capacity_ : 0),
+      is_wide_(backend, capacity_), interior_counts_(backend, capacity_),
+      leaf_counts_(backend, capacity_), interior_offsets_(backend, capacity_),
+      triangle_offsets_(backend, capacity_), wide_index_(backend, capacity_),
+      orders_(backend, capacity_), wide_total_(backend, 1), nodes_(backend, capacity_),
       records_(backend, std::size_t(5) * std::max(1, triangle_count)),
       sources_(backend, std::max(1, triangle_count)),
       scratch_(backend, backend == Backend::gpu ? scan_scratch_bytes(capacity_) : 0),

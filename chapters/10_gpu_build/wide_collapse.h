@@ -73,6 +73,7 @@ private:
   Backend backend_;
   int triangle_count_, leaf_size_, capacity_;
   CollapseRule rule_;
+  // range_first_ and range_end_: the depth rule's (the sah rule keeps ranges in CostRecord).
   BackendArray<int> range_first_, range_end_, is_wide_, interior_counts_, leaf_counts_,
       interior_offsets_, triangle_offsets_, wide_index_, wide_total_;
   BackendArray<WideOrder> orders_; // 64 bytes per binary node, set for the wide ones
