@@ -24,10 +24,6 @@ namespace rt::ch10 {
 inline constexpr int k_treelet_leaves = 7;
 inline constexpr int k_treelet_subsets = 1 << k_treelet_leaves;
 
-// A node's cost in the treelet search: its box's ordered area (hploc.h), as H-PLOC's merges
-// price theirs.
-RT_HD inline float treelet_area(const Aabb& box) { return ordered_area(box); }
-
 // A treelet as it was found: its leaves, and its interior nodes with their children, each
 // child a leaf's place in `leaf` (0 and up) or an interior node's (~k for node[k]). node[0] is
 // the root; node[k], k >= 1, is the k-th leaf opened, whose children took its place and the
@@ -56,7 +52,7 @@ RT_HD inline void open_treelet(const ClusterTree& tree, int root, Treelet& t) {
     int open = -1;
     float largest = -1.0f;
     for (int i = 0; i < t.leaf_count; ++i) {
-      const float area = treelet_area(t.box[i]);
+      const float area = ordered_area(t.box[i]);
       if (t.leaf[i] >= tree.n && area > largest) {
         open = i;
         largest = area;
@@ -78,12 +74,13 @@ RT_HD inline void open_treelet(const ClusterTree& tree, int root, Treelet& t) {
   }
 }
 
-// The treelet's cost of the leaves in `set` (a bit per leaf) under one node: their box's area.
+// The treelet's cost of the leaves in `set` (a bit per leaf) under one node: their box's
+// ordered area (hploc.h), as H-PLOC's merges price theirs.
 RT_HD inline float subset_area(const Treelet& t, unsigned set) {
   Aabb box;
   for (int i = 0; i < t.leaf_count; ++i)
     if ((set >> i & 1u) != 0) box.grow(t.box[i]);
-  return treelet_area(box);
+  return ordered_area(box);
 }
 
 // [listing:treelet_search]
