@@ -61,18 +61,16 @@ void run_megakernel(Backend backend, F features, Strategy strategy, const S& sce
 // coherent. One sample per launch: each pixel's sum gets one path, in sample order as in the
 // megakernel.
 inline constexpr unsigned k_warp_lanes = 32;
-inline constexpr unsigned k_tile_width = 8, k_tile_height = 4; // pixels
-static_assert(k_tile_width * k_tile_height == k_warp_lanes, "a tile is one warp's paths");
+static_assert(PixelTiles::k_width * PixelTiles::k_height == k_warp_lanes,
+              "a tile is one warp's paths");
 
 template <class S, class F>
 __global__ void persistent_paths_kernel(S scene, F features, Strategy strategy,
                                         ch03::Camera<float> camera, unsigned sample,
                                         float4* sums, unsigned* non_finite,
                                         unsigned* next_path) {
-  const int width = camera.pinhole.width, height = camera.pinhole.height;
-  const unsigned tiles_x = (unsigned(width) + k_tile_width - 1) / k_tile_width;
-  const unsigned tiles_y = (unsigned(height) + k_tile_height - 1) / k_tile_height;
-  const unsigned paths = tiles_x * tiles_y * k_warp_lanes;
+  const PixelTiles tiles(camera.pinhole.width, camera.pinhole.height);
+  const unsigned paths = unsigned(tiles.count());
   const unsigned lane = threadIdx.x % k_warp_lanes;
   typename S::Path path{};
   bool alive = false;
@@ -87,10 +85,8 @@ __global__ void persistent_paths_kernel(S scene, F features, Strategy strategy,
       if (!alive) {
         const unsigned index = first + unsigned(__popc(int(idle & ((1u << lane) - 1u))));
         if (index >= paths) break; // every path is taken
-        const unsigned tile = index / k_warp_lanes, within = index % k_warp_lanes;
-        const int x = int((tile % tiles_x) * k_tile_width + within % k_tile_width);
-        const int y = int((tile / tiles_x) * k_tile_height + within / k_tile_width);
-        if (x >= width || y >= height) continue; // a tile's part outside the image
+        int x = 0, y = 0;
+        if (!tiles.pixel(index, x, y)) continue; // a tile's part outside the image
         path = start_path(scene, camera, x, y, sample);
         alive = true;
       }

@@ -36,6 +36,31 @@ TEST_CASE("grid rounding", "[common]") {
   CHECK(blocks_to_cover(1080, 16) == 68);
 }
 
+TEST_CASE("pixel tiles number every pixel exactly once, a warp's 8 x 4 square each",
+          "[common]") {
+  for (const Extent e : {Extent{1, 1}, Extent{8, 4}, Extent{9, 5}, Extent{3, 1000},
+                         Extent{1000, 3}, Extent{257, 129}}) {
+    const PixelTiles tiles(e.width, e.height);
+    CHECK(tiles.count() % 32 == 0);
+    CHECK(tiles.count() >= e.pixel_count());
+    CHECK(tiles.count() < e.pixel_count() + 32LL * (tiles.tiles_x + tiles.tiles_y));
+    std::vector<int> counts(static_cast<std::size_t>(e.pixel_count()), 0);
+    for (long long n = 0; n < tiles.count(); ++n) {
+      int x = -1, y = -1;
+      if (!tiles.pixel(unsigned(n), x, y)) {
+        CHECK((x >= e.width || y >= e.height)); // the tile hangs over an edge
+        continue;
+      }
+      REQUIRE((x >= 0 && y >= 0));
+      ++counts[static_cast<std::size_t>(y) * e.width + x];
+      // A warp's 32 numbers stay inside one 8 x 4 square.
+      CHECK(x / 8 == int(n / 32) % tiles.tiles_x);
+      CHECK(y / 4 == int(n / 32) / tiles.tiles_x);
+    }
+    for (int c : counts) REQUIRE(c == 1);
+  }
+}
+
 TEST_CASE("the 1-D CPU launch visits every index exactly once, on any thread count",
           "[common]") {
   for (const int count : {1, 63, 64 * 4 + 1, 100000}) {

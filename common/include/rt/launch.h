@@ -40,6 +40,32 @@ struct BlockShape {
 // the last block may hang over the edge of the image.
 constexpr int blocks_to_cover(int n, int block) { return (n + block - 1) / block; }
 
+// [listing:pixel_tiles]
+// Pixels numbered in tiles of 8 x 4, a warp's worth each, for kernels that run a thread per
+// number: a warp's 32 rays then leave from a small square of the image rather than from a
+// strip of one row, and stay closer together in the scene (chapter 11's paths, chapter 13's
+// shaded frame). Numbers past the image's edge, in the tiles that hang over it, are no pixel.
+struct PixelTiles {
+  static constexpr int k_width = 8, k_height = 4; // one warp
+  int width = 0, height = 0, tiles_x = 0, tiles_y = 0;
+  RT_HD PixelTiles(int w, int h)
+      : width(w), height(h), tiles_x((w + k_width - 1) / k_width),
+        tiles_y((h + k_height - 1) / k_height) {}
+  // The numbers to cover: every tile's 32.
+  RT_HD long long count() const {
+    return static_cast<long long>(tiles_x) * tiles_y * (k_width * k_height);
+  }
+  // Number `index`'s pixel; false past the image's edge.
+  RT_HD bool pixel(unsigned index, int& x, int& y) const {
+    const unsigned tile = index / unsigned(k_width * k_height),
+                   within = index % unsigned(k_width * k_height);
+    x = int((tile % unsigned(tiles_x)) * k_width + within % k_width);
+    y = int((tile / unsigned(tiles_x)) * k_height + within / k_width);
+    return x < width && y < height;
+  }
+};
+// [/listing:pixel_tiles]
+
 #if RT_DEVICE_CODE_POSSIBLE
 // [listing:launch_kernel]
 template <class PixelFn>
