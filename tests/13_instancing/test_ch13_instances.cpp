@@ -28,6 +28,7 @@
 #include "rt/error.h"
 #include "run_program.h"
 #include "supported_range.h"
+#include "trace.h"
 #include "triangles.h"
 #include "two_level_scene.h"
 #include "wide_traverse.h"
@@ -854,6 +855,34 @@ TEST_CASE("move(t) places the instances and boxes the host makes, and traces as 
   moving.scene.move(1.0);
   render_shaded(moving.scene, camera, Extent{48, 32}, later.data());
   CHECK(first != later);
+}
+
+TEST_CASE("the shaded frame writes every pixel once, where its camera ray goes",
+          "[ch13][move]") {
+  // Pixels go to threads in 8 x 4 tiles; an image of neither 8 nor 4 pixels' multiples has
+  // tiles that hang over two edges. A pixel whose camera ray misses every instance is the
+  // sky's colour, and every other pixel is not: a tile put in the wrong place fails.
+  const Forest forest = icosphere_forest(40, 1309, 0.8);
+  const CpuScene cpu(forest.scene);
+  const Extent extent{37, 13};
+  const ch03::Camera<float> camera = ch03::make_camera<float>(*forest.scene.camera, extent);
+  const Rgba8 unwritten{1, 2, 3, 0};
+  std::vector<Rgba8> image(static_cast<std::size_t>(extent.pixel_count()), unwritten);
+  render_shaded(cpu.scene, camera, extent, image.data());
+  std::vector<RayF> rays;
+  for (int y = 0; y < extent.height; ++y)
+    for (int x = 0; x < extent.width; ++x) rays.push_back(camera.ray_through_pixel(x, y));
+  const std::vector<InstanceHit> hits = trace_all(cpu.scene, Query::closest, rays);
+  const Rgba8 sky = ch03::to_rgba8(Vec3f{0.55f, 0.7f, 0.9f});
+  int misses = 0;
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(image[i] != unwritten);
+    CHECK((image[i] == sky) == (hits[i].instance < 0));
+    misses += hits[i].instance < 0;
+  }
+  CHECK(misses > 20); // the sky above the horizon
+  CHECK(misses < int(image.size()) - 20);
 }
 
 // ---------------------------------------------------------------------------------------------
