@@ -324,14 +324,14 @@ int run_instancing(const InstancingOptions& options, Backend backend) {
   report.add_context("triangles stored / as placed",
                      group_digits(stored) + " / " + group_digits(placed));
   report.add_context("image", to_string(extent));
-  report.add_context("top level",
-                     options.top == TopLayout::binary
-                         ? "binary (chapter 10's LBVH), chapter 09's walk at each instance"
-                     : options.top == TopLayout::nested
-                         ? "4-wide (chapter 10's LBVH, collapsed in parallel), chapter 09's "
-                           "walk at each level, nested"
-                         : "4-wide (chapter 10's LBVH, collapsed in parallel), both levels in "
-                           "one loop");
+  report.add_context(
+      "top level", options.top == TopLayout::binary
+                       ? "binary (chapter 10's LBVH), chapter 09's walk at each instance"
+                   : options.top == TopLayout::nested
+                       ? "4-wide (chapter 10's LBVH, collapsed in parallel by the depth rule), "
+                         "chapter 09's walk at each level, nested"
+                       : "4-wide (chapter 10's LBVH, collapsed in parallel by the depth rule), "
+                         "both levels in one loop");
   report.add_context("memory", "bottom level " +
                                    format_fixed(two_level.bottom_bytes() / 1e6, 2) +
                                    " MB, top level and instances " +
