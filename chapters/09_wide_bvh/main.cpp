@@ -213,7 +213,8 @@ int main(int argc, char** argv) {
   app.add_option_function<std::string>(
          "--tracer", [&](const std::string& text) { options.tracer = parse_tracer(text); },
          "One tracer: binary, wide4, wide8, cwbvh8, cwbvh8_greedy, wide4_packed, "
-         "wide4_packed_shared_stack, wide4_packed_persistent, wide4_packed_sorted or cpu8 (the "
+         "wide4_packed_shared_stack, wide4_packed_persistent, wide4_packed_sorted, "
+         "wide4_packed_tiles, wide4_packed_persistent_tiles or cpu8 (the "
          "CPU's own tree, CPU backend only) (the queries' tree; the measurements then compare "
          "it with binary alone)")
       ->default_str("all (queries: cwbvh8)");

@@ -18,9 +18,10 @@ constexpr int k_block = 128; // threads per block, as in chapters 07 and 08
 
 // [listing:wide_kernel]
 template <Query kQuery, class View>
-__global__ void wide_trace_kernel(View tree, const RayF* rays, int count, MeshHit* hits) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= count) return;
+__global__ void wide_trace_kernel(View tree, const RayF* rays, int count, MeshHit* hits,
+                                  RayOrder order) {
+  int i = 0;
+  if (!order.ray_of(blockIdx.x * blockDim.x + threadIdx.x, count, i)) return;
   const TraceHit hit = trace_wide<kQuery>(tree, rays[i]);
   hits[i] = {hit.t, hit.triangle};
 }
@@ -87,16 +88,17 @@ __global__ void wide_shared_stack_kernel(View tree, const RayF* rays, int count,
 // by at most 32 per warp, far from wrapping.
 template <Query kQuery, class View>
 __global__ void wide_persistent_kernel(View tree, const RayF* rays, int count, MeshHit* hits,
-                                       unsigned* next_ray) {
+                                       unsigned* next_ray, RayOrder order) {
   constexpr unsigned k_all_lanes = 0xffffffffu;
   const unsigned lane = threadIdx.x % 32u;
+  const unsigned numbers = unsigned(order.numbers(count));
   for (;;) {
     unsigned first = 0;
     if (lane == 0) first = atomicAdd(next_ray, 32u);
     first = __shfl_sync(k_all_lanes, first, 0);
-    if (first >= unsigned(count)) return;
-    const unsigned i = first + lane;
-    if (i < unsigned(count)) {
+    if (first >= numbers) return;
+    int i = 0;
+    if (order.ray_of(first + lane, count, i)) { // a warp's 32 numbers: one tile, when tiled
       const TraceHit hit = trace_wide<kQuery>(tree, rays[i]);
       hits[i] = {hit.t, hit.triangle};
     }
@@ -159,10 +161,12 @@ int query_slot(Query query) { return query == Query::closest ? 0 : 1; }
 } // namespace
 
 template <class View>
-void trace_wide_gpu(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits) {
+void trace_wide_gpu(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits,
+                    RayOrder order) {
   if (count <= 0) return;
+  const int threads = static_cast<int>(order.numbers(count));
   with_wide_kernel<View>(query, [&](auto kernel) {
-    kernel<<<blocks_to_cover(count, k_block), k_block>>>(tree, rays, count, hits);
+    kernel<<<blocks_to_cover(threads, k_block), k_block>>>(tree, rays, count, hits, order);
   });
   RT_CUDA_CHECK_LAUNCH("wide_trace_kernel");
 }
@@ -203,13 +207,14 @@ template <class View> PersistentWideTracer<View>::PersistentWideTracer() : next_
 // GPU gets only the blocks it needs.
 template <class View>
 void PersistentWideTracer<View>::trace(Query query, const View& tree, const RayF* rays,
-                                       int count, MeshHit* hits) {
+                                       int count, MeshHit* hits, RayOrder order) {
   if (count <= 0) return;
   RT_CUDA_CHECK(cudaMemsetAsync(next_ray_.data(), 0, sizeof(unsigned)));
+  const int threads = static_cast<int>(order.numbers(count));
   const int blocks =
-      std::min(resident_blocks_[query_slot(query)], blocks_to_cover(count, k_block));
+      std::min(resident_blocks_[query_slot(query)], blocks_to_cover(threads, k_block));
   with_persistent_kernel<View>(query, [&](auto kernel) {
-    kernel<<<blocks, k_block>>>(tree, rays, count, hits, next_ray_.data());
+    kernel<<<blocks, k_block>>>(tree, rays, count, hits, next_ray_.data(), order);
   });
   RT_CUDA_CHECK_LAUNCH("wide_persistent_kernel");
 }
@@ -268,7 +273,8 @@ template <class View> int SortedWideTracer<View>::key_kernel_registers() {
 }
 
 #define RT_CH09_GPU_LAYOUT(View)                                                               \
-  template void trace_wide_gpu<View>(Query, const View&, const RayF*, int, MeshHit*);          \
+  template void trace_wide_gpu<View>(Query, const View&, const RayF*, int, MeshHit*,           \
+                                     RayOrder);                                                \
   template int wide_kernel_registers<View>(Query);
 RT_CH09_GPU_LAYOUT(Wide4Bvh::View)
 RT_CH09_GPU_LAYOUT(Wide8Bvh::View)

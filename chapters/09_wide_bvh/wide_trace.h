@@ -2,7 +2,8 @@
 // thread per ray, rays in and hits out, as chapter 07's; the CPU runs the same traversal on
 // its threads. Each function exists for the views (WideTreeView) of the four stored layouts:
 // WideNode<4> and WideNode<8> with aligned triangles, CompressedNode, and WideNode<4> with
-// packed triangles; the three GPU variants at the end for the last alone.
+// packed triangles; the GPU variants at the end (tiles, a shared stack, persistent threads,
+// sorted rays) for the last alone.
 #pragma once
 
 #include <span>
@@ -10,6 +11,7 @@
 #include "bvh_trace.h"
 #include "ray_sort.h"
 #include "rt/device_buffer.h"
+#include "rt/launch.h"
 #include "wide_bvh.h"
 
 namespace rt::ch09 {
@@ -34,9 +36,44 @@ private:
   DeviceBuffer<Record> triangles_;
 };
 
-// `count` rays (device memory) into `hits` (device memory): closest or any hit.
+// [listing:ray_order]
+// Which ray each GPU thread takes. A batch is a list, and thread i takes ray i. But the rays of
+// a whole image, one per pixel in row order (the benchmark's camera rays, and its secondary
+// rays in a room where every pixel hits), can instead go out a tile of 8 x 4 pixels to a warp
+// (rt::PixelTiles), as a 2-D launch over the image gives them out: the rays of a warp then
+// leave from a square of pixels, not a strip of one row. The hits go to the same slots.
+struct RayOrder {
+  PixelTiles tiles{0, 0};
+  bool tiled = false;
+  // Tiles where `count` rays are exactly a width x height image's; the list order otherwise
+  // (a list of only the pixels that hit something is not an image).
+  static RayOrder for_image(int count, int width, int height) {
+    RayOrder order;
+    order.tiled = width > 0 && height > 0 && static_cast<long long>(width) * height == count;
+    if (order.tiled) order.tiles = PixelTiles(width, height);
+    return order;
+  }
+  // The thread numbers to cover.
+  RT_HD long long numbers(int count) const { return tiled ? tiles.count() : count; }
+  // The ray of thread `number` in `i`; false for a thread with none (past the image's edge).
+  RT_HD bool ray_of(unsigned number, int count, int& i) const {
+    if (!tiled) {
+      i = int(number);
+      return number < unsigned(count);
+    }
+    int x = 0, y = 0;
+    if (!tiles.pixel(number, x, y)) return false;
+    i = y * tiles.width + x;
+    return true;
+  }
+};
+// [/listing:ray_order]
+
+// `count` rays (device memory) into `hits` (device memory): closest or any hit, the rays taken
+// in `order`.
 template <class View>
-void trace_wide_gpu(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits);
+void trace_wide_gpu(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits,
+                    RayOrder order = {});
 
 // Registers per thread of the traversal kernel for a layout; needs a usable GPU.
 template <class View> int wide_kernel_registers(Query query);
@@ -61,7 +98,8 @@ template <class View> int shared_stack_kernel_registers(Query query);
 template <class View> class PersistentWideTracer {
 public:
   PersistentWideTracer();
-  void trace(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits);
+  void trace(Query query, const View& tree, const RayF* rays, int count, MeshHit* hits,
+             RayOrder order = {});
   static int registers(Query query);
 
 private:

@@ -37,6 +37,9 @@ constexpr TracerInfo k_info[] = {
     {ChapterTracer::wide4_packed_persistent, "wide4 packed, persistent",
      "wide4_packed_persistent"},
     {ChapterTracer::wide4_packed_sorted, "wide4 packed, sorted rays", "wide4_packed_sorted"},
+    {ChapterTracer::wide4_packed_tiles, "wide4 packed, tiles", "wide4_packed_tiles"},
+    {ChapterTracer::wide4_packed_persistent_tiles, "wide4 packed, persistent, tiles",
+     "wide4_packed_persistent_tiles"},
     {ChapterTracer::cpu8, "cpu8", "cpu8"},
 };
 
@@ -115,10 +118,20 @@ Tracer variant_tracer(ChapterTracer which, const PackedTree& tree, const TracerS
     tracer.registers = SortedWideTracer<PackedView>::registers;
     return tracer;
   }
-  // A shared stack and persistent threads are GPU matters: on the CPU these two tracers run
-  // the plain traversal (a CPU thread's stack is in its cache anyway, and for_each_ray_cpu's
-  // threads already take their rays in chunks from a counter).
+  // A shared stack, persistent threads and tiles are GPU matters: on the CPU these tracers run
+  // the plain traversal (a CPU thread's stack is in its cache anyway, for_each_ray_cpu's
+  // threads already take their rays in chunks from a counter, and a thread has no warp).
   if (!tree.device) return tracer;
+  // The tiles are the camera's image's: a batch of exactly its pixel count is taken in tiles.
+  const int width = scene.camera.width, height = scene.camera.height;
+  if (which == ChapterTracer::wide4_packed_tiles) {
+    tracer.trace_gpu = [device = tree.device, width, height](Query query, const RayF* d_rays,
+                                                             int count, MeshHit* d_hits) {
+      trace_wide_gpu(query, device->view(), d_rays, count, d_hits,
+                     RayOrder::for_image(count, width, height));
+    };
+    return tracer;
+  }
   if (which == ChapterTracer::wide4_packed_shared_stack) {
     tracer.trace_gpu = [device = tree.device](Query query, const RayF* d_rays, int count,
                                               MeshHit* d_hits) {
@@ -128,9 +141,11 @@ Tracer variant_tracer(ChapterTracer which, const PackedTree& tree, const TracerS
     return tracer;
   }
   const auto persistent = std::make_shared<PersistentWideTracer<PackedView>>();
-  tracer.trace_gpu = [device = tree.device, persistent](Query query, const RayF* d_rays,
-                                                        int count, MeshHit* d_hits) {
-    persistent->trace(query, device->view(), d_rays, count, d_hits);
+  const bool tiles = which == ChapterTracer::wide4_packed_persistent_tiles;
+  tracer.trace_gpu = [device = tree.device, persistent, tiles, width,
+                      height](Query query, const RayF* d_rays, int count, MeshHit* d_hits) {
+    persistent->trace(query, device->view(), d_rays, count, d_hits,
+                      tiles ? RayOrder::for_image(count, width, height) : RayOrder{});
   };
   tracer.registers = PersistentWideTracer<PackedView>::registers;
   return tracer;
@@ -240,7 +255,9 @@ Tracer wide4_tracer(std::string name, Wide4PackedBvh tree, const TracerScene& sc
 bool is_traversal_variant(ChapterTracer tracer) {
   return tracer == ChapterTracer::wide4_packed_shared_stack ||
          tracer == ChapterTracer::wide4_packed_persistent ||
-         tracer == ChapterTracer::wide4_packed_sorted;
+         tracer == ChapterTracer::wide4_packed_sorted ||
+         tracer == ChapterTracer::wide4_packed_tiles ||
+         tracer == ChapterTracer::wide4_packed_persistent_tiles;
 }
 
 ChapterTracer parse_tracer(std::string_view name) {

@@ -27,10 +27,13 @@ enum class ChapterTracer {
   cwbvh8,        // SAH collapse to 8 children, compressed 80-byte nodes (the paper's tree)
   cwbvh8_greedy, // greedy collapse to 8 children, compressed
   wide4_packed,  // wide4 with its triangles in 40-byte records instead of 48
-  // The wide4 packed tree (the same one, built once) traversed three other ways on the GPU:
+  // The wide4 packed tree (the same one, built once) traversed other ways on the GPU:
   wide4_packed_shared_stack, // the stack's first entries in shared memory
   wide4_packed_persistent,   // persistent threads taking 32 rays a warp from a counter
   wide4_packed_sorted,       // the rays traced sorted by octant and origin, sort included
+  // and two that take an image's rays a tile of 8 x 4 pixels to a warp (RayOrder):
+  wide4_packed_tiles,            // the plain kernel
+  wide4_packed_persistent_tiles, // persistent threads, a tile a warp from the counter
   // The CPU's own tree: the SAH collapse to 8 children, every child's address written out,
   // children visited nearest first (cpu_tree.h). CPU backend only.
   cpu8,
@@ -46,6 +49,8 @@ inline constexpr ChapterTracer k_all_tracers[] = {ChapterTracer::binary,
                                                   ChapterTracer::wide4_packed_shared_stack,
                                                   ChapterTracer::wide4_packed_persistent,
                                                   ChapterTracer::wide4_packed_sorted,
+                                                  ChapterTracer::wide4_packed_tiles,
+                                                  ChapterTracer::wide4_packed_persistent_tiles,
                                                   ChapterTracer::cpu8};
 
 // Whether the tracer is one of wide4 packed's traversal variants: its tree, traversed another

@@ -1,8 +1,8 @@
 // Chapter 09 tests on the GPU: every wide tree's kernel gives the CPU traversal's hits bit for
 // bit (the same RT_HD code, and dequantise rounds the same on both), for closest and any hits,
-// and so do the three traversal variants of wide4 packed (shared stack, persistent threads,
-// sorted rays); so do the trees collapsed from spatial-split (sbvh) binary trees; the shaded
-// frame through the compressed tree is the CPU's.
+// and so do the traversal variants of wide4 packed (shared stack, persistent threads,
+// sorted rays, tiles); so do the trees collapsed from spatial-split (sbvh) binary trees; the
+// shaded frame through the compressed tree is the CPU's.
 #include <cstring>
 #include <vector>
 
@@ -93,6 +93,25 @@ TEST_CASE("gpu: the traversal variants give the CPU's hits bit for bit", "[ch09]
       CHECK(variant_differences(tree, few, query, trace_persistent) == 0);
       CHECK(variant_differences(tree, few, query, trace_sorted) == 0);
       CHECK(variant_differences(tree, few, query, trace_wide_gpu_shared_stack<View>) == 0);
+      // In tiles: the rays read as images whose tiles hang over both edges (one of them one
+      // pixel wide), and as a list (the count not an image's), plain and persistent.
+      for (const auto& [width, height] : {std::pair{157, 99}, std::pair{1, 5000}}) {
+        CAPTURE(width, height);
+        const std::vector<RayF> image(rays.begin(), rays.begin() + width * height);
+        for (const int count : {width * height, width * height - 1}) {
+          const std::vector<RayF> batch(image.begin(), image.begin() + count);
+          const RayOrder order = RayOrder::for_image(count, width, height);
+          CHECK(order.tiled == (count == width * height));
+          const auto trace_tiles = [&](Query q, const View& v, const RayF* r, int n,
+                                       MeshHit* h) { trace_wide_gpu(q, v, r, n, h, order); };
+          const auto trace_persistent_tiles = [&](Query q, const View& v, const RayF* r, int n,
+                                                  MeshHit* h) {
+            persistent.trace(q, v, r, n, h, order);
+          };
+          CHECK(variant_differences(tree, batch, query, trace_tiles) == 0);
+          CHECK(variant_differences(tree, batch, query, trace_persistent_tiles) == 0);
+        }
+      }
     }
   }
   for (const Query query : {Query::closest, Query::any}) {

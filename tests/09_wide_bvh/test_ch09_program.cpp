@@ -47,9 +47,10 @@ TEST_CASE("program: the report measures every tracer, each with chapter 07's hit
   INFO(run.output);
   REQUIRE(run.exit_code == 0);
   for (const char* type : {"primary", "ao", "diffuse"})
-    for (const char* tracer : {"binary (ch07)", "wide4", "wide8", "cwbvh8", "cwbvh8 greedy",
-                               "wide4 packed", "wide4 packed, shared stack",
-                               "wide4 packed, persistent", "wide4 packed, sorted rays", "cpu8"})
+    for (const char* tracer :
+         {"binary (ch07)", "wide4", "wide8", "cwbvh8", "cwbvh8 greedy", "wide4 packed",
+          "wide4 packed, shared stack", "wide4 packed, persistent", "wide4 packed, sorted rays",
+          "wide4 packed, tiles", "wide4 packed, persistent, tiles", "cpu8"})
       CHECK_THAT(run.output,
                  contains(std::string("cornell_room, ") + type + ", " + tracer + "  "));
   CHECK_THAT(run.output, contains("cornell_room, build cwbvh8 (CPU)"));
@@ -73,8 +74,8 @@ TEST_CASE("program: the report measures every tracer, each with chapter 07's hit
     CHECK(row.at("metrics").at("mrays_per_s").get<double>() > 0.0);
     ++traced;
   }
-  CHECK(traced == 30); // 3 ray types x 10 tracers
-  CHECK(builds == 6);  // the wide trees: the three variants of wide4 packed share its tree
+  CHECK(traced == 36); // 3 ray types x 12 tracers
+  CHECK(builds == 6);  // the wide trees: the variants of wide4 packed share its tree
 }
 
 TEST_CASE("program: --tracer narrows the tracers measured", "[ch09]") {

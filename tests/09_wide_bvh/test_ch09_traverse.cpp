@@ -13,6 +13,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "rt_catch.h"
@@ -482,10 +483,11 @@ TEST_CASE("the traversal variants give wide4 packed's hits bit for bit on the CP
     int builds = 0;
     const std::vector<ch07::Tracer> tracers = chapter_tracers(
         {ChapterTracer::wide4_packed, ChapterTracer::wide4_packed_shared_stack,
-         ChapterTracer::wide4_packed_persistent, ChapterTracer::wide4_packed_sorted},
+         ChapterTracer::wide4_packed_persistent, ChapterTracer::wide4_packed_sorted,
+         ChapterTracer::wide4_packed_tiles, ChapterTracer::wide4_packed_persistent_tiles},
         [&](const std::string&, const std::string&, const WideStats&) { ++builds; })(scene);
     CHECK(builds == 1); // one tree, shared
-    REQUIRE(tracers.size() == 4);
+    REQUIRE(tracers.size() == 6);
     for (const Query query : {Query::closest, Query::any}) {
       std::vector<MeshHit> plain(rays.size());
       tracers[0].trace_cpu(query, rays, plain);
@@ -502,6 +504,32 @@ TEST_CASE("the traversal variants give wide4 packed's hits bit for bit on the CP
         CHECK(tracers[k].bytes_per_triangle == tracers[0].bytes_per_triangle);
       }
     }
+  }
+}
+
+TEST_CASE("a ray order gives each ray to one thread: an image's in tiles, a list in order",
+          "[ch09]") {
+  for (const auto& [width, height, count] :
+       {std::tuple{13, 7, 91}, std::tuple{13, 7, 90}, std::tuple{8, 4, 32}, std::tuple{1, 1, 1},
+        std::tuple{0, 0, 5}, std::tuple{640, 360, 640 * 360}}) {
+    CAPTURE(width, height, count);
+    const RayOrder order = RayOrder::for_image(count, width, height);
+    CHECK(order.tiled == (width * height == count && count > 0));
+    std::vector<int> taken(static_cast<std::size_t>(count), 0);
+    for (long long n = 0; n < order.numbers(count); ++n) {
+      int i = -1;
+      if (!order.ray_of(unsigned(n), count, i)) continue;
+      REQUIRE((i >= 0 && i < count));
+      ++taken[static_cast<std::size_t>(i)];
+      if (order.tiled) { // thread n's ray is a pixel of tile n / 32
+        const int x = i % width, y = i / width, tile = int(n / 32);
+        CHECK(x / 8 == tile % order.tiles.tiles_x);
+        CHECK(y / 4 == tile / order.tiles.tiles_x);
+      } else {
+        CHECK(i == int(n));
+      }
+    }
+    for (const int t : taken) REQUIRE(t == 1);
   }
 }
 
