@@ -31,7 +31,7 @@ enum class ChapterTracer {
   wide4_packed_shared_stack, // the stack's first entries in shared memory
   wide4_packed_persistent,   // persistent threads taking 32 rays a warp from a counter
   wide4_packed_sorted,       // the rays traced sorted by octant and origin, sort included
-  // and two that take an image's rays a tile of 8 x 4 pixels to a warp (RayOrder):
+  // and an image's rays taken a tile of 8 x 4 pixels to a warp (RayOrder), by
   wide4_packed_tiles,            // the plain kernel
   wide4_packed_persistent_tiles, // persistent threads, a tile a warp from the counter
   // The CPU's own tree: the SAH collapse to 8 children, every child's address written out,
