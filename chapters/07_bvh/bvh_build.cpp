@@ -204,6 +204,15 @@ public:
   int slice_begin(int begin, int end, int t) const {
     return begin + static_cast<int>(static_cast<long long>(end - begin) * t / size_);
   }
+  // Both ends of member t's slice, for a loop to keep in variables of its own. A loop that
+  // tested i < slice_begin(begin, end, t + 1) would divide at every step: it stores through
+  // pointers, and for all the compiler knows a store changes size_.
+  struct Slice {
+    int begin, end;
+  };
+  Slice slice(int begin, int end, int t) const {
+    return {slice_begin(begin, end, t), slice_begin(begin, end, t + 1)};
+  }
 
 private:
   int size_;
@@ -222,6 +231,8 @@ constexpr int k_min_shared_pass = 4096;
 constexpr int k_subtrees_per_thread = 4;
 // Subtrees smaller than this are not handed out on their own: their parents' passes share well.
 constexpr int k_min_subtree = 2048;
+// How many triangles a thread places in leaves between reports to the progress count.
+constexpr int k_progress_step = 4096;
 
 // A piece of the tree as one thread writes it: its nodes, numbered from 0 in its own depth
 // first order, and the counts of its nodes and leaves.
@@ -289,6 +300,9 @@ public:
     const int handoff =
         team_ ? std::max(k_min_subtree, n / (k_subtrees_per_thread * team_->size())) : 0;
     Writer top(*this, team_ ? &*team_ : nullptr, handoff, true);
+    // A range of m references has at most m - 1 interior nodes (a split leaves references on
+    // both sides), so with room for that many the array is never copied as it grows.
+    if (!team_) top.fragment().nodes.reserve(std::max(n - 1, 1));
     bvh.bounds = top.range_bounds(0, n);
     if (n > 0) {
       const std::optional<Split> split = top.choose_split(0, n, bvh.bounds, 0);
@@ -308,6 +322,7 @@ public:
         top.count_leaf(n);
       }
     }
+    top.report_progress();
     build_subtrees();
     bvh.stats = std::move(top.fragment().stats);
     bvh.stats.threads = team_ ? team_->size() : 1;
@@ -334,9 +349,12 @@ private:
 
     Fragment& fragment() { return out_; }
 
-    // Builds the Subtree's nodes into its own fragment.
+    // Builds the Subtree's nodes into its own fragment (with room for all of them, as the
+    // serial build's: see Builder::build).
     void build(Subtree& subtree) {
+      out_.nodes.reserve(subtree.end - subtree.begin - 1);
       emit_interior(subtree.split, subtree.begin, subtree.end, subtree.depth);
+      report_progress();
       subtree.fragment = std::move(out_);
       out_ = Fragment{};
       out_.stats.leaf_sizes.assign(options_.max_leaf_size + 1, 0);
@@ -345,7 +363,16 @@ private:
     void count_leaf(int count) {
       ++out_.stats.leaves;
       ++out_.stats.leaf_sizes[count];
-      const long long placed = b_.placed_ += count;
+      unreported_ += count;
+      if (unreported_ >= k_progress_step) report_progress();
+    }
+
+    // Adds the triangles placed since the last report to the build's count. Not done for every
+    // leaf: with leaves of one that is a clock read per triangle, and the threads would take
+    // turns owning the counter's cache line.
+    void report_progress() {
+      const long long placed = b_.placed_ += unreported_;
+      unreported_ = 0;
       // CpuProgress prints from the thread that made it: the calling thread, member 0.
       if (reports_progress_) b_.progress_.update(placed);
     }
@@ -413,13 +440,17 @@ private:
         return median_split(begin, end);
       }
       if (n == 1) return std::nullopt; // a leaf of one: there is nothing to split
-      const SahPlane best = best_sah_plane(begin, end, box, depth);
+      const SahPlane best =
+          n == 2 ? pair_plane(begin, box, depth) : best_sah_plane(begin, end, box, depth);
+      const auto apply = [&] {
+        return n == 2 ? split_pair(best, begin) : apply_sah_plane(best, begin, end);
+      };
       if (n <= max_leaf) {
         // A leaf costs n triangle tests; split only if the SAH expects fewer.
-        if (best.axis >= 0 && best.cost < n) return apply_sah_plane(best, begin, end);
+        if (best.axis >= 0 && best.cost < n) return apply();
         return std::nullopt;
       }
-      if (best.axis >= 0) return apply_sah_plane(best, begin, end);
+      if (best.axis >= 0) return apply();
       // Too many triangles for a leaf and no plane separates their centroids (they all
       // coincide) or keeps under the depth bound: halve the range, which always does both.
       return median_split(begin, end);
@@ -581,11 +612,44 @@ private:
       Split split;
       split.mid = shared(begin, end) ? partition_shared(begin, end, goes_left)
                                      : partition_references(refs_, begin, end, goes_left);
+      // A loop per side: growing a box chosen bin by bin would keep both boxes in memory, each
+      // grow waiting for the last one's stores.
       const Bin* bin = &bins_[axis * options_.bins];
-      for (int k = 0; k < options_.bins; ++k) {
-        (k < best.plane ? split.left : split.right).grow(bin[k].box());
-      }
+      for (int k = 0; k < best.plane; ++k) split.left.grow(bin[k].box());
+      for (int k = best.plane; k < options_.bins; ++k) split.right.grow(bin[k].box());
       return split;
+    }
+
+    // Two references: the node that a tree with leaves of one holds most often (43% of the
+    // conference room's interior nodes). The binned search needs no bins for them. On an axis
+    // where their centroids differ, the lower centroid falls in the first bin and the other in
+    // a later one, so the one plane there sends a triangle to each side; where they are equal
+    // there is no plane. What is left to choose is the axis, priced exactly as best_sah_plane
+    // prices a plane (with counts of one), and the same axis wins.
+    SahPlane pair_plane(int begin, const Aabb& box, int depth) const {
+      const Reference& a = refs_[begin];
+      const Reference& b = refs_[begin + 1];
+      const double node_area = half_area_of(box);
+      SahPlane best;
+      for (int axis = 0; axis < 3; ++axis) {
+        if (a.centroid[axis] == b.centroid[axis]) continue;
+        const bool a_left = a.centroid[axis] < b.centroid[axis];
+        const double cost = 1.0 + area_ratio(half_area_of((a_left ? a : b).box), node_area) +
+                            area_ratio(half_area_of((a_left ? b : a).box), node_area);
+        if (cost < best.cost && within_depth_bound(depth, 1, 1, options_.max_leaf_size))
+          best = {axis, 1, cost};
+      }
+      return best;
+    }
+
+    // The pair split along best.axis as apply_sah_plane splits it: Hoare's partition swaps
+    // the two only when the second one belongs on the left, and each child's box, the union
+    // of one triangle's bin with empty ones, is that triangle's box.
+    Split split_pair(const SahPlane& best, int begin) {
+      Reference* pair = refs_ + begin;
+      if (pair[1].centroid[best.axis] < pair[0].centroid[best.axis])
+        std::swap(pair[0], pair[1]);
+      return {begin + 1, pair[0].box, pair[1].box};
     }
 
     // partition_references' outcome, computed by the team: each member marks its slice and
@@ -598,11 +662,12 @@ private:
       goes_left_.resize(static_cast<std::size_t>(end - begin));
       std::vector<int> left_of(members), movers_left(members), movers_right(members);
       team_->run([&](int t) {
+        const auto [from, to] = team_->slice(begin, end, t);
+        unsigned char* flags = goes_left_.data();
         int count = 0;
-        for (int i = team_->slice_begin(begin, end, t);
-             i < team_->slice_begin(begin, end, t + 1); ++i) {
+        for (int i = from; i < to; ++i) {
           const bool left = goes_left(refs_[i]);
-          goes_left_[i - begin] = left;
+          flags[i - begin] = left;
           count += left;
         }
         left_of[t] = count;
@@ -611,15 +676,13 @@ private:
       for (const int count : left_of) mid += count;
       const auto moves = [&](int i) { return goes_left_[i - begin] != (i < mid); };
       team_->run([&](int t) {
+        const auto [left_from, left_to] = team_->slice(begin, mid, t);
+        const auto [right_from, right_to] = team_->slice(mid, end, t);
         int count = 0;
-        for (int i = team_->slice_begin(begin, mid, t);
-             i < team_->slice_begin(begin, mid, t + 1); ++i)
-          count += moves(i);
+        for (int i = left_from; i < left_to; ++i) count += moves(i);
         movers_left[t] = count;
         count = 0;
-        for (int i = team_->slice_begin(mid, end, t); i < team_->slice_begin(mid, end, t + 1);
-             ++i)
-          count += moves(i);
+        for (int i = right_from; i < right_to; ++i) count += moves(i);
         movers_right[t] = count;
       });
       // Ranks: the left part's movers counted from the left, the right part's from the right.
@@ -637,18 +700,18 @@ private:
       mover_left_.resize(movers);
       mover_right_.resize(movers);
       team_->run([&](int t) {
+        const auto [left_from, left_to] = team_->slice(begin, mid, t);
+        const auto [right_from, right_to] = team_->slice(mid, end, t);
         int k = rank_left[t];
-        for (int i = team_->slice_begin(begin, mid, t);
-             i < team_->slice_begin(begin, mid, t + 1); ++i)
+        for (int i = left_from; i < left_to; ++i)
           if (moves(i)) mover_left_[k++] = i;
         k = rank_right[t];
-        for (int i = team_->slice_begin(mid, end, t + 1) - 1;
-             i >= team_->slice_begin(mid, end, t); --i)
+        for (int i = right_to - 1; i >= right_from; --i)
           if (moves(i)) mover_right_[k++] = i;
       });
       team_->run([&](int t) {
-        for (int k = team_->slice_begin(0, movers, t); k < team_->slice_begin(0, movers, t + 1);
-             ++k)
+        const auto [from, to] = team_->slice(0, movers, t);
+        for (int k = from; k < to; ++k)
           std::swap(refs_[mover_left_[k]], refs_[mover_right_[k]]);
       });
       return mid;
@@ -660,6 +723,7 @@ private:
     ThreadTeam* team_;
     int handoff_;
     bool reports_progress_;
+    int unreported_ = 0; // triangles placed in leaves since the last report_progress
     Fragment out_;
     // Scratch of the SAH search, reused by every node.
     std::vector<Bin> bins_; // bins per axis, axis after axis
