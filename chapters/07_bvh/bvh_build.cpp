@@ -200,18 +200,18 @@ public:
     finish_.arrive_and_wait();
   }
 
-  // Member t's slice of [begin, end), cut into size() nearly equal slices.
-  int slice_begin(int begin, int end, int t) const {
-    return begin + static_cast<int>(static_cast<long long>(end - begin) * t / size_);
-  }
-  // Both ends of member t's slice, for a loop to keep in variables of its own. A loop that
-  // tested i < slice_begin(begin, end, t + 1) would divide at every step: it stores through
-  // pointers, and for all the compiler knows a store changes size_.
+  // Member t's slice of [begin, end), cut into size() nearly equal slices: both ends, for a
+  // loop to keep in variables of its own. A loop that worked its end out in its test would
+  // divide at every step: it stores through pointers, and for all the compiler knows a store
+  // changes size_.
   struct Slice {
     int begin, end;
   };
   Slice slice(int begin, int end, int t) const {
-    return {slice_begin(begin, end, t), slice_begin(begin, end, t + 1)};
+    const auto cut = [&](int k) {
+      return begin + static_cast<int>(static_cast<long long>(end - begin) * k / size_);
+    };
+    return {cut(t), cut(t + 1)};
   }
 
 private:
@@ -275,8 +275,7 @@ public:
     if (threads > 1 && n >= 2 * k_min_subtree) team_.emplace(threads);
     references_.resize(n);
     const auto make_references = [&](int t) {
-      const int begin = team_ ? team_->slice_begin(0, n, t) : 0;
-      const int end = team_ ? team_->slice_begin(0, n, t + 1) : n;
+      const auto [begin, end] = team_ ? team_->slice(0, n, t) : ThreadTeam::Slice{0, n};
       for (int i = begin; i < end; ++i) { // check_build_input has vouched for every vertex
         Reference& r = references_[i];
         r.box = bounds_of(mesh.triangle(i));
@@ -473,8 +472,8 @@ private:
       if (!shared(begin, end)) return join_slice(begin, end);
       std::vector<Aabb> slices(team_->size());
       team_->run([&](int t) {
-        slices[t] = join_slice(team_->slice_begin(begin, end, t),
-                               team_->slice_begin(begin, end, t + 1));
+        const auto [from, to] = team_->slice(begin, end, t);
+        slices[t] = join_slice(from, to);
       });
       Aabb box;
       for (const Aabb& s : slices) box.grow(s);
@@ -535,8 +534,8 @@ private:
       if (!shared(begin, end)) return fill_bins(begin, end, bins_.data());
       team_->run([&](int t) {
         thread_bins_[t].assign(bins_.size(), Bin{});
-        fill_bins(team_->slice_begin(begin, end, t), team_->slice_begin(begin, end, t + 1),
-                  thread_bins_[t].data());
+        const auto [from, to] = team_->slice(begin, end, t);
+        fill_bins(from, to, thread_bins_[t].data());
       });
       for (const std::vector<Bin>& bins : thread_bins_) {
         for (std::size_t k = 0; k < bins_.size(); ++k) {
