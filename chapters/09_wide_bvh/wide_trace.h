@@ -43,21 +43,21 @@ private:
 // (rt::PixelTiles), as a 2-D launch over the image gives them out: the rays of a warp then
 // leave from a square of pixels, not a strip of one row. The hits go to the same slots.
 struct RayOrder {
-  PixelTiles tiles{0, 0};
-  bool tiled = false;
+  PixelTiles tiles{0, 0}; // an image of no pixels: the list order
   // Tiles where `count` rays are exactly a width x height image's; the list order otherwise
   // (a list of only the pixels that hit something is not an image).
   static RayOrder for_image(int count, int width, int height) {
     RayOrder order;
-    order.tiled = width > 0 && height > 0 && static_cast<long long>(width) * height == count;
-    if (order.tiled) order.tiles = PixelTiles(width, height);
+    if (width > 0 && height > 0 && static_cast<long long>(width) * height == count)
+      order.tiles = PixelTiles(width, height);
     return order;
   }
+  RT_HD bool tiled() const { return tiles.width > 0; }
   // The thread numbers to cover.
-  RT_HD long long numbers(int count) const { return tiled ? tiles.count() : count; }
+  RT_HD long long numbers(int count) const { return tiled() ? tiles.count() : count; }
   // The ray of thread `number` in `i`; false for a thread with none (past the image's edge).
   RT_HD bool ray_of(unsigned number, int count, int& i) const {
-    if (!tiled) {
+    if (!tiled()) {
       i = int(number);
       return number < unsigned(count);
     }

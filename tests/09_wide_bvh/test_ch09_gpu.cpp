@@ -101,7 +101,7 @@ TEST_CASE("gpu: the traversal variants give the CPU's hits bit for bit", "[ch09]
         for (const int count : {width * height, width * height - 1}) {
           const std::vector<RayF> batch(image.begin(), image.begin() + count);
           const RayOrder order = RayOrder::for_image(count, width, height);
-          CHECK(order.tiled == (count == width * height));
+          CHECK(order.tiled() == (count == width * height));
           const auto trace_tiles = [&](Query q, const View& v, const RayF* r, int n,
                                        MeshHit* h) { trace_wide_gpu(q, v, r, n, h, order); };
           const auto trace_persistent_tiles = [&](Query q, const View& v, const RayF* r, int n,

@@ -514,14 +514,14 @@ TEST_CASE("a ray order gives each ray to one thread: an image's in tiles, a list
         std::tuple{0, 0, 5}, std::tuple{640, 360, 640 * 360}}) {
     CAPTURE(width, height, count);
     const RayOrder order = RayOrder::for_image(count, width, height);
-    CHECK(order.tiled == (width * height == count && count > 0));
+    CHECK(order.tiled() == (width * height == count && count > 0));
     std::vector<int> taken(static_cast<std::size_t>(count), 0);
     for (long long n = 0; n < order.numbers(count); ++n) {
       int i = -1;
       if (!order.ray_of(unsigned(n), count, i)) continue;
       REQUIRE((i >= 0 && i < count));
       ++taken[static_cast<std::size_t>(i)];
-      if (order.tiled) { // thread n's ray is a pixel of tile n / 32
+      if (order.tiled()) { // thread n's ray is a pixel of tile n / 32
         const int x = i % width, y = i / width, tile = int(n / 32);
         CHECK(x / 8 == tile % order.tiles.tiles_x);
         CHECK(y / 4 == tile / order.tiles.tiles_x);
