@@ -150,7 +150,8 @@ RT_HD inline LobeChoice choose_lobes(const Bsdf& b, Vec3f wo, const Compensation
   for (const float w : weight) total += w;
   LobeChoice choice{};
   if (total > 0.0f)
-    for (int i = 0; i < k_lobe_kinds; ++i) choice.probability[i] = weight[i] / total;
+    for (int i = 0; i < k_lobe_kinds; ++i) // 0 / total is 0: skip the division
+      choice.probability[i] = weight[i] == 0.0f ? 0.0f : weight[i] / total;
   return choice;
 }
 // [/listing:lobe_choice]
@@ -242,70 +243,67 @@ RT_UNFUSED_HD inline bool dielectric_sample(const Bsdf& b, Vec3f wo, float u_cho
 // [/listing:dielectric]
 
 // ---------------------------------------------------------------------------------------------
-// One lobe's f |cos wi| (times its scale in the model) and its sampler's density, for the
-// non-delta lobes; a lobe that is a delta distribution here gives 0 for both.
-
-RT_HD inline Vec3f lobe_eval(const Bsdf& b, LobeKind kind, Vec3f wo, Vec3f wi,
-                             const CompensationView& table) {
-  const float scale = lobe_scale(b, kind);
-  if (!(scale > 0.0f)) return {};
-  if (kind == LobeKind::dielectric)
-    return dielectric_is_delta(b)
-               ? Vec3f{}
-               : dielectric_eval(b, wo, wi) * (scale * dielectric_compensation(b, wo, table));
-  const Vec3f o = to_side_of(wo, wo.z), i = to_side_of(wi, wo.z);
-  Vec3f h;
-  if (!reflection_half_vector(o, i, h)) return {};
-  switch (kind) {
-  case LobeKind::diffuse: {
-    const float coat =
-        b.model == MaterialModel::lambertian ? 0.0f : coat_fresnel(b.ior, dot(o, h));
-    return b.base_color * (scale * (1.0f - coat) * i.z / ch11::k_pi);
-  }
-  case LobeKind::coat:
-    if (is_smooth(b)) return {};
-    return Vec3f{1.0f, 1.0f, 1.0f} *
-           (scale * coat_fresnel(b.ior, dot(o, h)) * ggx_reflection(o, i, h, b.alpha));
-  case LobeKind::metal:
-    if (is_smooth(b)) return {};
-    return metal_fresnel(b, dot(o, h)) * (scale * ggx_reflection(o, i, h, b.alpha));
-  default: // the compensation
-    if (!compensates(b, table)) return {};
-    return compensation_colour(metal_f_avg(b), average_albedo(table, b.alpha)) *
-           (scale * compensation_lobe(table, o.z, i.z, b.alpha));
-  }
-}
-
-RT_HD inline float lobe_pdf(const Bsdf& b, LobeKind kind, Vec3f wo, Vec3f wi) {
-  if (kind == LobeKind::dielectric)
-    return dielectric_is_delta(b) ? 0.0f : dielectric_pdf(b, wo, wi);
-  const Vec3f o = to_side_of(wo, wo.z), i = to_side_of(wi, wo.z);
-  Vec3f h;
-  if (!reflection_half_vector(o, i, h)) return 0.0f;
-  if (kind == LobeKind::diffuse || kind == LobeKind::metal_compensation)
-    return ch11::cosine_density(i.z);
-  return is_smooth(b) ? 0.0f : ggx_reflection_pdf(o, h, b.alpha);
-}
-
-// ---------------------------------------------------------------------------------------------
 // [listing:bsdf_eval]
-// f(wo, wi) |wi.z|: the sum of the non-delta lobes (a delta lobe is never hit by a direction
-// chosen elsewhere).
-RT_HD inline Vec3f bsdf_eval(const Bsdf& b, Vec3f wo, Vec3f wi, const CompensationView& table) {
-  Vec3f sum{};
+// f(wo, wi) |wi.z| and the density of bsdf_sample's wi, in one pass over the lobes: the sum
+// of the non-delta lobes (a delta lobe is never hit by a direction chosen elsewhere), and
+// their densities weighted by how often `choice` picks each (choose_lobes for this wo). The
+// reflection lobes share their geometry: wo and wi turned to wo's side, the half vector, the
+// coat's Fresnel term, GGX's reflection (the coat's and the metal's, at one alpha) and its
+// density. Each is computed once for the whole sum, not once per lobe.
+struct BsdfValue {
+  Vec3f f_cos; // f(wo, wi) |wi.z|
+  float pdf;   // bsdf_sample's solid-angle density of wi
+};
+RT_HD inline BsdfValue bsdf_value(const Bsdf& b, const LobeChoice& choice, Vec3f wo, Vec3f wi,
+                                  const CompensationView& table) {
+  const float* picked = choice.probability;
+  const float diffuse = lobe_scale(b, LobeKind::diffuse), coat = lobe_scale(b, LobeKind::coat);
+  const float dielectric = lobe_scale(b, LobeKind::dielectric);
+  const float metal = lobe_scale(b, LobeKind::metal);
+  const float compensation = lobe_scale(b, LobeKind::metal_compensation);
+  const Vec3f o = to_side_of(wo, wo.z), i = to_side_of(wi, wo.z);
+  Vec3f h;
+  const bool reflects = reflection_half_vector(o, i, h);
+  const float fresnel =
+      reflects && b.model != MaterialModel::lambertian ? coat_fresnel(b.ior, dot(o, h)) : 0.0f;
+  const bool glossy = reflects && !is_smooth(b); // GGX reflection, not a mirror
+  const float ggx =
+      glossy && (coat > 0.0f || metal > 0.0f) ? ggx_reflection(o, i, h, b.alpha) : 0.0f;
+  const bool rough_interface = !dielectric_is_delta(b);
+
+  BsdfValue v{};
+  if (reflects && diffuse > 0.0f)
+    v.f_cos += b.base_color * (diffuse * (1.0f - fresnel) * i.z / ch11::k_pi);
+  if (glossy && coat > 0.0f) v.f_cos += Vec3f{1.0f, 1.0f, 1.0f} * (coat * fresnel * ggx);
+  if (rough_interface && dielectric > 0.0f)
+    v.f_cos +=
+        dielectric_eval(b, wo, wi) * (dielectric * dielectric_compensation(b, wo, table));
+  if (glossy && metal > 0.0f) v.f_cos += metal_fresnel(b, dot(o, h)) * (metal * ggx);
+  if (reflects && compensation > 0.0f && compensates(b, table))
+    v.f_cos += compensation_colour(metal_f_avg(b), average_albedo(table, b.alpha)) *
+               (compensation * compensation_lobe(table, o.z, i.z, b.alpha));
+
+  const float cosine_pdf = reflects ? ch11::cosine_density(i.z) : 0.0f;
+  const float ggx_pdf =
+      glossy && (picked[int(LobeKind::coat)] > 0.0f || picked[int(LobeKind::metal)] > 0.0f)
+          ? ggx_reflection_pdf(o, h, b.alpha)
+          : 0.0f;
+  const float lobe_pdf[k_lobe_kinds] = {
+      cosine_pdf, ggx_pdf,
+      rough_interface && picked[int(LobeKind::dielectric)] > 0.0f ? dielectric_pdf(b, wo, wi)
+                                                                  : 0.0f,
+      ggx_pdf, cosine_pdf};
   for (int kind = 0; kind < k_lobe_kinds; ++kind)
-    sum += lobe_eval(b, LobeKind(kind), wo, wi, table);
-  return sum;
+    if (picked[kind] > 0.0f) v.pdf += picked[kind] * lobe_pdf[kind];
+  return v;
 }
 
-// The density of bsdf_sample's wi: the lobes' densities weighted by how often each is picked.
+// Each alone, for a caller that needs one of them.
+RT_HD inline Vec3f bsdf_eval(const Bsdf& b, Vec3f wo, Vec3f wi, const CompensationView& table) {
+  return bsdf_value(b, choose_lobes(b, wo, table), wo, wi, table).f_cos;
+}
 RT_HD inline float bsdf_pdf(const Bsdf& b, Vec3f wo, Vec3f wi, const CompensationView& table) {
-  const LobeChoice choice = choose_lobes(b, wo, table);
-  float sum = 0.0f;
-  for (int kind = 0; kind < k_lobe_kinds; ++kind)
-    if (choice.probability[kind] > 0.0f)
-      sum += choice.probability[kind] * lobe_pdf(b, LobeKind(kind), wo, wi);
-  return sum;
+  return bsdf_value(b, choose_lobes(b, wo, table), wo, wi, table).pdf;
 }
 // [/listing:bsdf_eval]
 
@@ -332,9 +330,9 @@ RT_HD inline bool bsdf_is_delta_only(const Bsdf& b) {
 // the dielectric's reflect-or-refract), draw wi from it with u and v, and weight wi by the
 // whole sum: f(wi) |cos| / pdf(wi) over all non-delta lobes. A delta lobe's direction is met
 // by no other lobe: its weight is its own, over the chance of picking it.
-RT_UNFUSED_HD inline bool bsdf_sample(const Bsdf& b, Vec3f wo, float u_lobe, float u, float v,
+RT_UNFUSED_HD inline bool bsdf_sample(const Bsdf& b, const LobeChoice& choice, Vec3f wo,
+                                      float u_lobe, float u, float v,
                                       const CompensationView& table, BsdfSample& out) {
-  const LobeChoice choice = choose_lobes(b, wo, table);
   // The lobe whose interval holds u_lobe; rounding may leave the last interval short of 1,
   // so a u_lobe past every interval takes the last lobe that can be picked.
   int kind = -1;
@@ -391,12 +389,19 @@ RT_UNFUSED_HD inline bool bsdf_sample(const Bsdf& b, Vec3f wo, float u_lobe, flo
     if (!(wi.z * wo.z > 0.0f)) return false; // reflected below the horizon
     break;
   }
-  const float pdf = bsdf_pdf(b, wo, wi, table);
+  const BsdfValue value = bsdf_value(b, choice, wo, wi, table);
+  const float pdf = value.pdf;
   if (!(pdf > 0.0f) || !(pdf <= std::numeric_limits<float>::max())) return false;
-  out = {wi, bsdf_eval(b, wo, wi, table) / pdf, pdf,
+  out = {wi, value.f_cos / pdf, pdf,
          wi.z * wo.z > 0.0f ? unsigned(k_lobe_reflect) : unsigned(k_lobe_transmit)};
   return true;
 }
 // [/listing:bsdf_sample]
+
+// The sampler with the lobes chosen for this wo (a caller that has no choice of its own).
+RT_UNFUSED_HD inline bool bsdf_sample(const Bsdf& b, Vec3f wo, float u_lobe, float u, float v,
+                                      const CompensationView& table, BsdfSample& out) {
+  return bsdf_sample(b, choose_lobes(b, wo, table), wo, u_lobe, u, v, table, out);
+}
 
 } // namespace rt::ch12

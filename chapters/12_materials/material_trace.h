@@ -144,29 +144,36 @@ RT_HD inline ConeBounce cone_bounce(const Bsdf& bsdf, unsigned lobe) {
 }
 
 // [listing:lambertian_shortcut]
-// The BSDF's three functions, with chapter 11's Lambertian surface taken first: most of a
-// room's hits are on its walls, and there the general mixture (five lobes, the lobe choice
-// computed again in each call) reduces to albedo * cos / pi, a cosine sample and its density.
-// The answers are the mixture's; only the work is left out.
-RT_HD inline Vec3f eval_f_cos(const Bsdf& b, Vec3f wo, Vec3f wi, const CompensationView& c) {
-  if (b.model == MaterialModel::lambertian)
-    return wi.z > 0.0f ? b.base_color * (wi.z / ch11::k_pi) : Vec3f{};
-  return bsdf_eval(b, wo, wi, c);
-}
-RT_HD inline float density(const Bsdf& b, Vec3f wo, Vec3f wi, const CompensationView& c) {
-  if (b.model == MaterialModel::lambertian) return ch11::cosine_density(wi.z);
-  return bsdf_pdf(b, wo, wi, c);
-}
-RT_UNFUSED_HD inline bool sample_f(const Bsdf& b, Vec3f wo, float u_lobe, float u, float v,
-                                   const CompensationView& c, BsdfSample& out) {
-  if (b.model == MaterialModel::lambertian) {
-    if (!(max_component(b.base_color) > 0.0f)) return false; // black: nothing comes back
-    const Vec3f wi = ch07::cosine_direction_about_z(u, v);
-    out = {wi, b.base_color, ch11::cosine_density(wi.z), k_lobe_reflect};
-    return true;
+// The BSDF at one vertex, with chapter 11's Lambertian surface taken first: most of a room's
+// hits are on its walls, and there the general mixture (five lobes and the choice between
+// them) reduces to albedo * cos / pi, a cosine sample and its density. The answers are the
+// mixture's; only the work is left out. Any other surface chooses its lobes once, for the
+// vertex's wo, and its light sample and its bounce both use that choice.
+struct VertexBsdf {
+  Bsdf b;
+  Vec3f wo;
+  LobeChoice choice; // unused on a Lambertian surface
+  RT_HD VertexBsdf(const Bsdf& bsdf, Vec3f w, const CompensationView& c)
+      : b(bsdf), wo(w),
+        choice(bsdf.model == MaterialModel::lambertian ? LobeChoice{}
+                                                       : choose_lobes(bsdf, w, c)) {}
+  RT_HD BsdfValue value(Vec3f wi, const CompensationView& c) const { // f |cos| and pdf
+    if (b.model == MaterialModel::lambertian)
+      return {wi.z > 0.0f ? b.base_color * (wi.z / ch11::k_pi) : Vec3f{},
+              ch11::cosine_density(wi.z)};
+    return bsdf_value(b, choice, wo, wi, c);
   }
-  return bsdf_sample(b, wo, u_lobe, u, v, c, out);
-}
+  RT_UNFUSED_HD bool sample(float u_lobe, float u, float v, const CompensationView& c,
+                            BsdfSample& out) const {
+    if (b.model == MaterialModel::lambertian) {
+      if (!(max_component(b.base_color) > 0.0f)) return false; // black: nothing comes back
+      const Vec3f wi = ch07::cosine_direction_about_z(u, v);
+      out = {wi, b.base_color, ch11::cosine_density(wi.z), k_lobe_reflect};
+      return true;
+    }
+    return bsdf_sample(b, choice, wo, u_lobe, u, v, c, out);
+  }
+};
 // [/listing:lambertian_shortcut]
 
 // A shading frame: the normal and Duff's tangents (chapter 07).
@@ -208,7 +215,7 @@ RT_HD Vec3f emission_at(const MaterialSceneView& s, F features, int triangle,
 template <class F>
 RT_HD void sample_emitter_bsdf(const MaterialSceneView& s, F features, const PathState& path,
                                const ch11::VertexNumbers& u, Vec3f p, const Frame& frame,
-                               const ch04::TriangleF& triangle, Vec3f wo, const Bsdf& bsdf,
+                               const ch04::TriangleF& triangle, const VertexBsdf& bsdf,
                                Strategy strategy, ShadowRays& shadows) {
   const ch11::LightPoint light =
       ch11::sample_light_point(s, u.light_pick, u.light.x, u.light.y);
@@ -224,16 +231,14 @@ RT_HD void sample_emitter_bsdf(const MaterialSceneView& s, F features, const Pat
   const Vec3f wi_world = to_light / distance;
   const float cos_q = dot(n_light, -wi_world);
   if (!(cos_q > 0.0f) || !(distance > 0.0f)) return; // edge-on, or behind the emitter
-  const Vec3f wi = frame.to_local(wi_world);
-  const Vec3f f_cos = eval_f_cos(bsdf, wo, wi, s.compensation);
+  const BsdfValue value = bsdf.value(frame.to_local(wi_world), s.compensation);
+  const Vec3f f_cos = value.f_cos;
   if (!(max_component(f_cos) > 0.0f)) return;
   const Vec3f factor = s.materials[s.material[light.triangle]].emission;
   const float pdf_light = ch11::light_area_density(s, factor) * distance_squared / cos_q;
   const Vec3f emission = emission_at(s, features, light.triangle, t, light.point);
   const float weight =
-      strategy == Strategy::mis
-          ? ch11::power_heuristic(pdf_light, density(bsdf, wo, wi, s.compensation))
-          : 1.0f;
+      strategy == Strategy::mis ? ch11::power_heuristic(pdf_light, value.pdf) : 1.0f;
   const int k = shadows.count++;
   shadows.ray[k] = {origin, to_light, 0.0f, 1.0f};
   shadows.contribution[k] = path.throughput * f_cos * emission * (weight / pdf_light);
@@ -272,6 +277,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
   const Vec3f n = transmits(bsdf) || from_front ? front : -front;
   const Frame frame{n, ch07::duff_frame(n)};
   const Vec3f wo = frame.to_local(-d);
+  const VertexBsdf scatter(bsdf, wo, s.compensation); // its lobes chosen once, for this wo
   const bool smooth_only = bsdf_is_delta_only(bsdf);
   bool next_event = false; // a shadow ray to a point on an emitter
   if constexpr (F::compiled(k_emitters))
@@ -289,7 +295,7 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
     const Environment& e = s.environment;
     if (features.on(k_sun) && !smooth_only) {
       const Vec3f wi = frame.to_local(e.sun_direction);
-      const Vec3f f_cos = eval_f_cos(bsdf, wo, wi, s.compensation);
+      const Vec3f f_cos = scatter.value(wi, s.compensation).f_cos;
       if (max_component(f_cos) > 0.0f) {
         const int k = shadows.count++;
         const Vec3f side = wi.z >= 0.0f ? n : -n;
@@ -300,11 +306,10 @@ RT_HD bool shade_vertex(const MaterialSceneView& s, F features, Strategy strateg
   }
   if constexpr (F::compiled(k_emitters))
     if (next_event)
-      sample_emitter_bsdf(s, features, path, u, p, frame, triangle, wo, bsdf, strategy,
-                          shadows);
+      sample_emitter_bsdf(s, features, path, u, p, frame, triangle, scatter, strategy, shadows);
   // The bounce: the BSDF's own sample, its weight f |cos| / pdf.
   BsdfSample bounce;
-  if (!sample_f(bsdf, wo, u.spare.x, u.bsdf.x, u.bsdf.y, s.compensation, bounce)) return false;
+  if (!scatter.sample(u.spare.x, u.bsdf.x, u.bsdf.y, s.compensation, bounce)) return false;
   path.throughput = path.throughput * bounce.weight;
   // [listing:roulette_eta]
   // Russian roulette as chapter 11's, on the throughput with the refractions' radiance scaling
