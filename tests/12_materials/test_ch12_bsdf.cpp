@@ -21,6 +21,7 @@
 #include "bsdf.h"
 #include "chi_square.h"
 #include "energy_compensation.h"
+#include "material_trace.h"
 #include "path_random.h"
 
 using namespace rt;
@@ -528,6 +529,67 @@ TEST_CASE("sampled weights are eval / pdf, reflection is reciprocal and refracti
   CHECK(worst_reciprocity < 1e-3);
   CHECK(refractions > 1000);
   CHECK(worst_refraction < 1e-3);
+}
+
+TEST_CASE("the path tracer's vertex BSDF, its lobes chosen once, answers as bsdf_eval, "
+          "bsdf_pdf and bsdf_sample do, bit for bit (Lambertian: to rounding)",
+          "[bsdf]") {
+  const Vec3f base{0.9f, 0.6f, 0.3f};
+  const Bsdf cases[] = {conductor(0.3f),
+                        gltf(base, 0.5f, 0.2f, 1.5f, 0.0f),
+                        gltf(base, 0.0f, 0.2f, 1.5f, 1.0f),
+                        gltf(base, 0.2f, 0.4f, 1.33f, 0.6f),
+                        gltf(base, 0.0f, 0.0f, 1.5f, 1.0f), // smooth glass: delta lobes only
+                        lambertian(base)};
+  const CompensationView view = table().view(true);
+  const auto same = [](Vec3f a, Vec3f b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+  const auto near = [](Vec3f a, Vec3f b) {
+    return std::abs(a.x - b.x) <= 1e-6f * std::max(1.0f, std::abs(b.x)) &&
+           std::abs(a.y - b.y) <= 1e-6f * std::max(1.0f, std::abs(b.y)) &&
+           std::abs(a.z - b.z) <= 1e-6f * std::max(1.0f, std::abs(b.z));
+  };
+  int compared = 0, differing = 0, samples = 0;
+  for (const Bsdf& b : cases) {
+    const bool shortcut = b.model == MaterialModel::lambertian;
+    for (int i = 0; i < 2000; ++i) {
+      const auto direction = [&](unsigned d, float side) {
+        const float cosine = 0.02f + 0.97f * random_number(i, 6000, d);
+        const float phi = float(k_two_pi) * random_number(i, 6000, d + 1);
+        const float sine = std::sqrt(1.0f - cosine * cosine);
+        return Vec3f{sine * std::cos(phi), sine * std::sin(phi), side * cosine};
+      };
+      const Vec3f wo = direction(0, b.transmission > 0.0f && i % 2 ? -1.0f : 1.0f);
+      const Vec3f wi = direction(2, i % 3 == 0 ? -1.0f : 1.0f);
+      const VertexBsdf vertex(b, wo, view);
+      const BsdfValue value = vertex.value(wi, view);
+      const Vec3f f = bsdf_eval(b, wo, wi, view);
+      const float pdf = bsdf_pdf(b, wo, wi, view);
+      ++compared;
+      if (shortcut ? !(near(value.f_cos, f) && std::abs(value.pdf - pdf) <= 1e-6f * pdf)
+                   : !(same(value.f_cos, f) && value.pdf == pdf))
+        ++differing;
+      const float u0 = random_number(i, 6000, 4), u1 = random_number(i, 6000, 5),
+                  u2 = random_number(i, 6000, 6);
+      BsdfSample ours{}, theirs{};
+      const bool drawn = vertex.sample(u0, u1, u2, view, ours);
+      const bool drawn_too = bsdf_sample(b, wo, u0, u1, u2, view, theirs);
+      ++compared;
+      if (drawn != drawn_too) {
+        ++differing;
+        continue;
+      }
+      if (!drawn) continue;
+      ++samples;
+      const bool alike = shortcut
+                             ? near(ours.wi, theirs.wi) && near(ours.weight, theirs.weight)
+                             : same(ours.wi, theirs.wi) && same(ours.weight, theirs.weight) &&
+                                   ours.pdf == theirs.pdf && ours.lobe == theirs.lobe;
+      if (!alike) ++differing;
+    }
+  }
+  INFO(differing << " of " << compared << " answers differ (" << samples << " samples)");
+  CHECK(samples > 8000);
+  CHECK(differing == 0);
 }
 
 TEST_CASE("the compensation table: its quadrature converges, 1 - ln 2 at alpha = 1 and normal "
