@@ -176,6 +176,25 @@ template <class Fn> __global__ void for_each_index_kernel(int count, Fn fn) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < count) fn(i);
 }
+
+// fn(i) for i = this thread's number, then that plus the launch's thread count, and so on.
+template <class Fn> __global__ void for_each_index_strided_kernel(int count, Fn fn) {
+  const int stride = gridDim.x * blockDim.x;
+  for (int i = blockIdx.x * blockDim.x + threadIdx.x; i < count; i += stride) fn(i);
+}
+
+// for_each_index's GPU launch on a stream of its own, to run beside the default stream's work
+// (chapter 11's wavefront finishes a sample's last paths while the next sample starts), by at
+// most `threads` threads (whole blocks), each taking every threads-th index: a launch that
+// leaves most of the GPU to the work beside it. 0: a thread per index.
+template <class Fn>
+void for_each_index_on(cudaStream_t stream, int count, Fn fn, int threads = 0) {
+  if (count <= 0) return;
+  const int blocks =
+      blocks_to_cover(threads > 0 ? std::min(count, threads) : count, k_index_block);
+  for_each_index_strided_kernel<<<blocks, k_index_block, 0, stream>>>(count, fn);
+  RT_CUDA_CHECK_LAUNCH("for_each_index_strided_kernel");
+}
 #endif
 
 // [listing:for_each_index]
