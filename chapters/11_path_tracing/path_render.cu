@@ -206,10 +206,12 @@ void ProgressiveRenderer::empty_sums() {
   samples_ = 0;
 }
 
-void ProgressiveRenderer::add_samples(const RenderSettings& settings, int samples) {
+WavefrontPass ProgressiveRenderer::add_samples(const RenderSettings& settings, int samples) {
   if (extent_.pixel_count() == 0) throw Error("renderer: restart() before add_samples()");
-  accumulate(settings, first_sample_ + unsigned(samples_), samples, false);
+  const WavefrontPass pass =
+      accumulate(settings, first_sample_ + unsigned(samples_), samples, false);
   samples_ += samples;
+  return pass;
 }
 
 RayCounts ProgressiveRenderer::add_counted_sample(Strategy strategy) {

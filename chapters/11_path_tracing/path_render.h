@@ -82,7 +82,9 @@ public:
   virtual std::string describe_features() const { return describe_path_features(features_); }
   // Empties the sums for a new view; the next samples are numbered from first_sample.
   void restart(const CameraSpec& camera, Extent extent, unsigned first_sample = 0);
-  void add_samples(const RenderSettings& settings, int samples);
+  // Adds `samples` samples per pixel; returns the wavefront's statistics (zeros for the other
+  // variants).
+  WavefrontPass add_samples(const RenderSettings& settings, int samples);
   // Adds one sample per pixel through the wavefront, counting the rays it traces; the
   // megakernel traces the same paths, so the same rays.
   RayCounts add_counted_sample(Strategy strategy);

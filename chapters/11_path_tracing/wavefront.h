@@ -9,6 +9,8 @@
 // in wavefront_stages.cuh; this header holds their memory and statistics.
 #pragma once
 
+#include <memory>
+
 #include "path_trace.h"
 #include "rt/backend_array.h"
 #include "shaded_render.h"
@@ -34,6 +36,11 @@ enum WavefrontCounter : int {
 // keeps the stages for the first bounces of a small image.
 inline constexpr int k_straggler_paths = 1 << 16;
 inline constexpr int k_straggler_share = 8;
+// Beside the next sample, the stragglers run on 128 threads per processor, each taking its
+// share of them in turn: a launch of a thread per path holds registers the next sample's
+// stages want. On an H200 (132 processors) 128 took 10.1 ms a sample in chapter 12's room,
+// 64 10.4 ms and 256 10.6 ms, a thread per path 10.5 ms (in calls of 8 samples).
+inline constexpr int k_tail_threads_per_processor = 128;
 
 // The memory of one pass of the wavefront over an image of `pixels` pixels: a path per pixel
 // and its shadow rays, the hits of the paths in the queue, and the queues themselves: 192
@@ -54,6 +61,28 @@ public:
   BackendArray<int> queue[2];       // the live paths: this bounce's, the next bounce's
   BackendArray<int> shadow_queue;   // paths with shadow rays to trace
   BackendArray<unsigned> counters;  // by WavefrontCounter
+
+  // The stragglers of one sample, finished on a stream of their own while the next sample's
+  // stages run (the GPU, a call of several samples): a copy of their paths, their pixels, and
+  // a flag for each pixel whose sample they carry. Made on first use; about 10 MB.
+  struct Tail {
+    Tail(Backend backend, int capacity, long long pixel_count)
+        : paths(backend, capacity), pixels(backend, capacity), deferred(backend, pixel_count) {
+      deferred.clear();
+      int device = 0, processors = 0;
+      RT_CUDA_CHECK(cudaGetDevice(&device));
+      RT_CUDA_CHECK(
+          cudaDeviceGetAttribute(&processors, cudaDevAttrMultiProcessorCount, device));
+      threads = processors * k_tail_threads_per_processor;
+    }
+    int threads = 0; // how many threads run the stragglers (for_each_index_on)
+    BackendArray<Path> paths;
+    BackendArray<int> pixels;
+    BackendArray<unsigned char> deferred; // 1: the pixel's sample comes with the tail
+    CudaStream stream;
+    CudaEvent gathered{cudaEventDisableTiming}, done{cudaEventDisableTiming};
+  };
+  std::unique_ptr<Tail> tail;
 };
 using WavefrontQueues = BasicWavefrontQueues<PathState>;
 
@@ -63,6 +92,7 @@ struct WavefrontPass {
   long long extended = 0;          // rays traced by extend, over every bounce
   long long shadow_rays_paths = 0; // paths queued for connect, over every bounce
   long long shadow_rays = 0;       // shadow rays traced by connect (0 unless counted)
+  int tails_beside = 0;            // samples whose stragglers ran beside the next sample
 };
 
 } // namespace rt::ch11

@@ -79,7 +79,14 @@ template <class Path> struct Finish { // every path has ended: its radiance join
   Queues<Path> q;
   float4* sums;
   unsigned* non_finite;
-  RT_HD void operator()(int i) const { add_sample(sums[i], q.paths[i].radiance, non_finite); }
+  unsigned char* deferred; // null, or 1 where the sample comes with the stragglers (below)
+  RT_HD void operator()(int i) const {
+    if (deferred != nullptr && deferred[i] != 0) {
+      deferred[i] = 0;
+      return;
+    }
+    add_sample(sums[i], q.paths[i].radiance, non_finite);
+  }
 };
 // [/listing:wavefront_stages]
 
@@ -94,7 +101,7 @@ template <class S, class F> struct Complete {
   Strategy strategy;
   bool count_rays;
   RT_HD void operator()(int j) const {
-    const int p = q.queue[j];
+    const int p = q.queue != nullptr ? q.queue[j] : j; // no queue: the paths are the stragglers
     typename S::Path path = q.paths[p]; // in registers while it runs, back when it ends
     ShadowRays shadows;
     bool alive = true;
@@ -113,6 +120,34 @@ template <class S, class F> struct Complete {
   }
 };
 // [/listing:wavefront_stragglers]
+
+// [listing:wavefront_tail]
+// The stragglers beside the next sample. Their launch is one thread's longest path, the GPU
+// nearly idle; when a call adds several samples, the next sample's stages can fill it. The
+// stragglers' paths are copied out of the way of the next camera rays, and their pixels
+// marked so that this sample's Finish leaves them to the tail's own Finish.
+template <class Path> struct GatherTail {
+  Queues<Path> q; // q.queue: the stragglers
+  Path* tail;
+  int* pixels;
+  unsigned char* deferred;
+  RT_HD void operator()(int j) const {
+    const int p = q.queue[j];
+    tail[j] = q.paths[p];
+    pixels[j] = p;
+    deferred[p] = 1;
+  }
+};
+template <class Path> struct FinishTail {
+  const Path* tail;
+  const int* pixels;
+  float4* sums;
+  unsigned* non_finite;
+  RT_HD void operator()(int j) const {
+    add_sample(sums[pixels[j]], tail[j].radiance, non_finite);
+  }
+};
+// [/listing:wavefront_tail]
 
 // The counters after a stage, on the host.
 inline void read_counters(Backend backend, const unsigned* counters,
@@ -142,8 +177,22 @@ WavefrontPass run_wavefront(Backend backend, F features, Strategy strategy, cons
   using Path = typename S::Path;
   const int pixels = static_cast<int>(queues.capacity()); // an image: at most 2^25 (cli.h)
   const int straggler_bar = std::min(k_straggler_paths, pixels / k_straggler_share);
+  // On the GPU, with more than one sample and no rays to count, each sample's stragglers run
+  // on a stream of their own while the next sample starts (wavefront_tail). The sums stay
+  // the same bit for bit: a pixel still gets its samples in order, because each Finish waits
+  // for the tail before it.
+  const bool overlap = backend == Backend::gpu && samples > 1 && !count_shadow_rays;
+  using Tail = typename BasicWavefrontQueues<Path>::Tail;
+  if (overlap && !queues.tail)
+    queues.tail = std::make_unique<Tail>(backend, straggler_bar, pixels);
+  bool tail_unwaited = false; // a tail the default stream has not waited for yet
+  const auto wait_for_tail = [&] {
+    if (tail_unwaited) CudaStream::wait(nullptr, queues.tail->done);
+    tail_unwaited = false;
+  };
   WavefrontPass pass;
   for (int s = 0; s < samples; ++s) {
+    bool tail_started = false;
     int current = 0; // which of the two queues holds this bounce's paths
     Queues<Path> q{queues.paths.data(),    queues.shadows.data(),  queues.hits.data(),
                    queues.queue[1].data(), queues.queue[0].data(), queues.shadow_queue.data(),
@@ -153,6 +202,26 @@ WavefrontPass run_wavefront(Backend backend, F features, Strategy strategy, cons
     while (live > 0) {
       if (live < straggler_bar) { // too few to fill the GPU: finish them in one launch
         q.queue = queues.queue[current].data();
+        if (overlap) {
+          Tail& tail = *queues.tail;
+          wait_for_tail(); // the last sample's tail is done with the tail's memory
+          for_each_index(
+              backend, live,
+              GatherTail<Path>{q, tail.paths.data(), tail.pixels.data(), tail.deferred.data()});
+          tail.gathered.record();
+          CudaStream::wait(tail.stream.get(), tail.gathered);
+          Queues<Path> tq{tail.paths.data(), nullptr, nullptr, nullptr,
+                          nullptr,           nullptr, nullptr};
+          for_each_index_on(tail.stream.get(), live,
+                            Complete<S, F>{tq, scene, features, strategy, false}, tail.threads);
+          for_each_index_on(
+              tail.stream.get(), live,
+              FinishTail<Path>{tail.paths.data(), tail.pixels.data(), sums, non_finite});
+          tail.done.record(tail.stream.get());
+          tail_started = true;
+          pass.tails_beside += s + 1 < samples; // the last one has no next sample beside it
+          break;
+        }
         queues.counters.clear();
         for_each_index(backend, live,
                        Complete<S, F>{q, scene, features, strategy, count_shadow_rays});
@@ -183,8 +252,13 @@ WavefrontPass run_wavefront(Backend backend, F features, Strategy strategy, cons
       live = static_cast<int>(counts[k_next_queue_length]);
       current = 1 - current;
     }
-    for_each_index(backend, pixels, Finish<Path>{q, sums, non_finite});
+    wait_for_tail(); // the last sample's tail adds to the sums before this sample does
+    for_each_index(
+        backend, pixels,
+        Finish<Path>{q, sums, non_finite, overlap ? queues.tail->deferred.data() : nullptr});
+    tail_unwaited = tail_unwaited || tail_started;
   }
+  wait_for_tail(); // what follows on the default stream sees every sum
   return pass;
 }
 // [/listing:wavefront_loop]

@@ -120,6 +120,31 @@ TEST_CASE("GPU: the persistent threads give the megakernel's sums, bit for bit",
   }
 }
 
+TEST_CASE("GPU: the wavefront's stragglers, run beside the next sample, change no sum",
+          "[ch11][gpu]") {
+  RT_REQUIRE_GPU();
+  const PathScene lit = room_with_sky_and_sun();
+  // 19 200 pixels: the stragglers' bar is 2 400 paths, which every sample's paths reach.
+  const Extent extent{160, 120};
+  const int samples = 6;
+  PathRenderer renderer(lit, Backend::gpu);
+  renderer.restart(cornell_camera(), extent);
+  const WavefrontPass pass = renderer.add_samples(
+      {PathVariant::wavefront, KernelKind::specialised, Strategy::mis}, samples);
+  CHECK(pass.tails_beside == samples - 1);
+  const std::vector<float4> wavefront = renderer.sums();
+  for (const float4& s : wavefront) REQUIRE(s.w == float(samples)); // each sample once
+  const Sums mega = render(lit, Backend::gpu, extent, samples,
+                           {PathVariant::megakernel, KernelKind::specialised, Strategy::mis});
+  describe_difference(mega.sums, wavefront);
+  CHECK(same_sums(mega.sums, wavefront));
+  // One sample per call has no next sample: the stragglers run as before.
+  renderer.restart(cornell_camera(), extent);
+  CHECK(
+      renderer.add_samples({PathVariant::wavefront, KernelKind::specialised, Strategy::mis}, 1)
+          .tails_beside == 0);
+}
+
 TEST_CASE("GPU: a moved scene, its tree built on the GPU, gives the CPU's sums bit for bit",
           "[ch11][gpu]") {
   RT_REQUIRE_GPU();
