@@ -12,6 +12,17 @@
 #include "wavefront.h"
 
 namespace rt::ch11 {
+namespace {
+
+// Pixels whose radiance sums differ at all between two images of the same size.
+long long pixels_differing(const std::vector<float4>& a, const std::vector<float4>& b) {
+  long long differ = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differ += (a[i].x != b[i].x || a[i].y != b[i].y || a[i].z != b[i].z);
+  return differ;
+}
+
+} // namespace
 
 void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settings,
                      const CameraSpec& camera, Extent extent, int frames, Report& report) {
@@ -48,9 +59,7 @@ void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settin
       first = sums;
       first_ms = t.median_ms;
     }
-    long long differ = 0;
-    for (std::size_t i = 0; i < sums.size(); ++i)
-      differ += (sums[i].x != first[i].x || sums[i].y != first[i].y || sums[i].z != first[i].z);
+    const long long differ = pixels_differing(sums, first);
     const double non_finite = double(renderer.non_finite());
     const double mpaths = double(extent.pixel_count()) / (t.median_ms * 1e3);
     const double mrays = mpaths * rays_per_path; // every camera, bounce and shadow ray
@@ -74,6 +83,42 @@ void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settin
     }
     report.add_row(std::move(row));
   }
+  if (renderer.backend() == Backend::gpu)
+    add_tail_row(renderer, variants[3], camera, extent, frames, rays_per_path, first_ms,
+                 report);
+}
+
+void add_tail_row(ProgressiveRenderer& renderer, const RenderSettings& wavefront,
+                  const CameraSpec& camera, Extent extent, int frames, double rays_per_path,
+                  double first_ms, Report& report) {
+  constexpr int k = k_samples_a_call;
+  const auto sums_after = [&](const RenderSettings& settings) {
+    renderer.restart(camera, extent);
+    renderer.add_samples(settings, k);
+    return renderer.sums();
+  };
+  const std::vector<float4> mega =
+      sums_after({PathVariant::megakernel, KernelKind::specialised, wavefront.strategy,
+                  wavefront.sampler, wavefront.sampler_samples});
+  const long long differ = pixels_differing(sums_after(wavefront), mega);
+  renderer.restart(camera, extent);
+  const Timing t = time_on(
+      renderer.backend(), [&] { renderer.add_samples(wavefront, k); }, frames);
+  const double ms = t.median_ms / k;
+  const double mpaths = double(extent.pixel_count()) / (ms * 1e3);
+  report.add_row({describe(wavefront) + " (specialised), " + std::to_string(k) +
+                      " samples a call: stragglers beside the next sample",
+                  to_string(renderer.backend()),
+                  ms,
+                  mpaths,
+                  format_fixed(ms / first_ms, 2) + "x the first row's time, " +
+                      group_digits(differ) + " px differ from the megakernel's " +
+                      std::to_string(k) + " samples, " +
+                      format_fixed(mpaths * rays_per_path, 1) + " Mrays/s",
+                  {{"time_vs_first", ms / first_ms},
+                   {"pixels_differing", double(differ)},
+                   {"samples_per_call", double(k)},
+                   {"mrays_per_s", mpaths * rays_per_path}}});
 }
 
 void add_moving_rows(MovingPathRenderer& renderer, const RenderSettings& settings,
@@ -121,9 +166,11 @@ SamplesTaken add_image_samples(ProgressiveRenderer& renderer, const RenderSettin
                                int spp, double seconds, std::ostream& progress,
                                std::chrono::milliseconds period) {
   const CpuWorkName name("rendering the image");
-  const int per_pass = static_cast<int>(std::clamp<long long>(
-      k_paths_per_pass / std::max<long long>(renderer.extent().pixel_count(), 1), 1,
-      k_max_samples_per_pixel));
+  const long long paths =
+      renderer.backend() == Backend::gpu ? k_gpu_paths_per_pass : k_paths_per_pass;
+  const int per_pass = static_cast<int>(
+      std::clamp<long long>(paths / std::max<long long>(renderer.extent().pixel_count(), 1), 1,
+                            k_max_samples_per_pixel));
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

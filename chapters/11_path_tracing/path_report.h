@@ -18,8 +18,17 @@ namespace rt::ch11 {
 // with the settings' strategy and sampler, timed over `frames` passes of one sample per pixel
 // (0: the protocol's count) from a fresh start, so that each ends with the same samples: their
 // sums are compared bit for bit.
+// On the GPU it adds add_tail_row's row.
 void add_kernel_rows(ProgressiveRenderer& renderer, const RenderSettings& settings,
                      const CameraSpec& camera, Extent extent, int frames, Report& report);
+
+// The wavefront timed in calls of k_samples_a_call samples, where each sample's stragglers
+// run beside the next sample (wavefront_stages.cuh): the milliseconds per sample, and its sums
+// against the megakernel's after as many samples. `first_ms` is the first row's time.
+inline constexpr int k_samples_a_call = 8;
+void add_tail_row(ProgressiveRenderer& renderer, const RenderSettings& wavefront,
+                  const CameraSpec& camera, Extent extent, int frames, double rays_per_path,
+                  double first_ms, Report& report);
 
 // --moving: `frames` frames of the renderer's moving scene (60 for 0), each moved on the
 // backend (its vertices, its tree built and collapsed) and given one sample per pixel by
@@ -41,6 +50,10 @@ inline constexpr int k_max_samples_per_pixel = 1 << 20;
 // on the CPU, so that long work (a tiny image of a million samples per pixel, a long
 // --seconds) can say how far it has come between passes.
 inline constexpr long long k_paths_per_pass = 1 << 16;
+// The GPU's passes are larger, 8 samples of 1920x1080 (a tenth of a second for chapter 12's
+// room on an H200): within a pass, the wavefront finishes each sample's stragglers beside
+// the next sample (wavefront_stages.cuh).
+inline constexpr long long k_gpu_paths_per_pass = 1 << 24;
 
 struct SamplesTaken {
   int samples = 0;      // per pixel
