@@ -147,6 +147,27 @@ template <class Path> struct FinishTail {
     add_sample(sums[pixels[j]], tail[j].radiance, non_finite);
   }
 };
+
+// The GPU: gathers the `live` stragglers of q.queue into `tail`, then on the tail's stream
+// finishes them and adds them to their pixels. The default stream's next work does not wait.
+template <class S, class F>
+void start_tail(typename BasicWavefrontQueues<typename S::Path>::Tail& tail,
+                const Queues<typename S::Path>& q, int live, const S& scene, F features,
+                Strategy strategy, float4* sums, unsigned* non_finite) {
+  using Path = typename S::Path;
+  for_each_index(
+      Backend::gpu, live,
+      GatherTail<Path>{q, tail.paths.data(), tail.pixels.data(), tail.deferred.data()});
+  tail.gathered.record(); // on the default stream, after the gather
+  CudaStream::wait(tail.stream.get(), tail.gathered);
+  const Queues<Path> stragglers{tail.paths.data(), nullptr, nullptr, nullptr,
+                                nullptr,           nullptr, nullptr};
+  for_each_index_on(tail.stream.get(), live,
+                    Complete<S, F>{stragglers, scene, features, strategy, false}, tail.threads);
+  for_each_index_on(tail.stream.get(), live,
+                    FinishTail<Path>{tail.paths.data(), tail.pixels.data(), sums, non_finite});
+  tail.done.record(tail.stream.get());
+}
 // [/listing:wavefront_tail]
 
 // The counters after a stage, on the host.
@@ -202,22 +223,9 @@ WavefrontPass run_wavefront(Backend backend, F features, Strategy strategy, cons
     while (live > 0) {
       if (live < straggler_bar) { // too few to fill the GPU: finish them in one launch
         q.queue = queues.queue[current].data();
-        if (overlap) {
-          Tail& tail = *queues.tail;
+        if (overlap) {     // beside the next sample
           wait_for_tail(); // the last sample's tail is done with the tail's memory
-          for_each_index(
-              backend, live,
-              GatherTail<Path>{q, tail.paths.data(), tail.pixels.data(), tail.deferred.data()});
-          tail.gathered.record();
-          CudaStream::wait(tail.stream.get(), tail.gathered);
-          Queues<Path> tq{tail.paths.data(), nullptr, nullptr, nullptr,
-                          nullptr,           nullptr, nullptr};
-          for_each_index_on(tail.stream.get(), live,
-                            Complete<S, F>{tq, scene, features, strategy, false}, tail.threads);
-          for_each_index_on(
-              tail.stream.get(), live,
-              FinishTail<Path>{tail.paths.data(), tail.pixels.data(), sums, non_finite});
-          tail.done.record(tail.stream.get());
+          start_tail(*queues.tail, q, live, scene, features, strategy, sums, non_finite);
           tail_started = true;
           pass.tails_beside += s + 1 < samples; // the last one has no next sample beside it
           break;
