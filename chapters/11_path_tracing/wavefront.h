@@ -39,7 +39,7 @@ inline constexpr int k_straggler_share = 8;
 // Beside the next sample, the stragglers run on 128 threads per processor, each taking its
 // share of them in turn: a launch of a thread per path holds registers the next sample's
 // stages want. On an H200 (132 processors) 128 took 10.1 ms a sample in chapter 12's room,
-// 64 10.4 ms and 256 10.6 ms, a thread per path 10.5 ms (in calls of 8 samples).
+// 64 10.5 ms and 256 10.6 ms, a thread per path 10.5 ms (in calls of 8 samples).
 inline constexpr int k_tail_threads_per_processor = 128;
 
 // The memory of one pass of the wavefront over an image of `pixels` pixels: a path per pixel
